@@ -1,0 +1,109 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkMarschnerLobbSource.h"
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkMarschnerLobbSource);
+
+//------------------------------------------------------------------------------
+vtkMarschnerLobbSource::vtkMarschnerLobbSource()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+//------------------------------------------------------------------------------
+double vtkMarschnerLobbSource::Evaluate(double x, double y, double z, double fm, double alpha)
+{
+  const double pi = vtkMath::Pi();
+  const double r = std::sqrt(x * x + y * y);
+  const double rho = std::cos(2.0 * pi * fm * std::cos(pi * r / 2.0));
+  return (1.0 - std::sin(pi * z / 2.0) + alpha * (1.0 + rho)) / (2.0 * (1.0 + alpha));
+}
+
+//------------------------------------------------------------------------------
+int vtkMarschnerLobbSource::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  int type = this->OutputScalarType;
+  if (type != VTK_FLOAT && type != VTK_DOUBLE && type != VTK_UNSIGNED_CHAR &&
+    type != VTK_UNSIGNED_SHORT)
+  {
+    vtkErrorMacro("Unsupported output scalar type " << type << "; producing float.");
+    type = VTK_FLOAT;
+  }
+  int dims[3];
+  double spacing[3], origin[3] = { -1, -1, -1 };
+  for (int a = 0; a < 3; ++a)
+  {
+    dims[a] = std::max(this->Dimensions[a], 2);
+    spacing[a] = 2.0 / (dims[a] - 1);
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int extent[6] = { 0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, type, 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMarschnerLobbSource::ExecuteDataWithInformation(
+  vtkDataObject* outputObject, vtkInformation* outInfo)
+{
+  vtkImageData* output = this->AllocateOutputData(outputObject, outInfo);
+  vtkDataArray* scalars = output->GetPointData()->GetScalars();
+  scalars->SetName("MarschnerLobb");
+  const int* extent = output->GetExtent();
+  const double* spacing = output->GetSpacing();
+  const double* origin = output->GetOrigin();
+  double scale = 1.0;
+  if (scalars->GetDataType() == VTK_UNSIGNED_CHAR)
+  {
+    scale = 255.0;
+  }
+  else if (scalars->GetDataType() == VTK_UNSIGNED_SHORT)
+  {
+    scale = 65535.0;
+  }
+  const bool integer = scale != 1.0;
+  vtkIdType id = 0;
+  for (int k = extent[4]; k <= extent[5]; ++k)
+  {
+    for (int j = extent[2]; j <= extent[3]; ++j)
+    {
+      for (int i = extent[0]; i <= extent[1]; ++i, ++id)
+      {
+        double v = scale *
+          Evaluate(origin[0] + i * spacing[0], origin[1] + j * spacing[1],
+            origin[2] + k * spacing[2], this->Frequency, this->Alpha);
+        if (integer)
+        {
+          v = std::min(std::max(std::round(v), 0.0), scale);
+        }
+        scalars->SetComponent(id, 0, v);
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMarschnerLobbSource::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Dimensions: " << this->Dimensions[0] << " " << this->Dimensions[1] << " "
+     << this->Dimensions[2] << "\n";
+  os << indent << "Frequency: " << this->Frequency << "\n";
+  os << indent << "Alpha: " << this->Alpha << "\n";
+  os << indent << "OutputScalarType: " << this->OutputScalarType << "\n";
+}

@@ -1,0 +1,88 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkCameraRayModel
+ * @brief   the ray of each pixel of a vtkCamera, as VTK's renderers cast it
+ *
+ * The one camera model of hovr: the reference integrator casts these rays, the GPU mappers get
+ * the same rays from VTK's projection of the same vtkCamera, and the benchmark compares them
+ * pixel by pixel. Pixel (i, j) is counted from the left and the bottom and its ray passes
+ * through the pixel centre, x = 2 (i + 1/2) / W - 1 and y = 2 (j + 1/2) / H - 1:
+ *   - parallel projection: origin = position + x s (W/H) right + y s up, direction = forward,
+ *     s being the camera's parallel scale;
+ *   - perspective: origin = position, direction = normalize(forward + x t (W/H) right + y t up),
+ *     t = tan(view angle / 2) (VTK's view angle is vertical).
+ * forward = normalize(focal point - position), right = normalize(forward x view up),
+ * up = right x forward. Window centre, shear and stereo are not modelled.
+ */
+#ifndef vtkCameraRayModel_h
+#define vtkCameraRayModel_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkObject.h"
+
+class vtkCamera;
+
+class HOVRRENDERINGCORE_EXPORT vtkCameraRayModel : public vtkObject
+{
+public:
+  static vtkCameraRayModel* New();
+  vtkTypeMacro(vtkCameraRayModel, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The camera whose rays are cast. Initial value is nullptr.
+   */
+  virtual void SetCamera(vtkCamera*);
+  vtkGetObjectMacro(Camera, vtkCamera);
+  ///@}
+
+  ///@{
+  /**
+   * Image size W x H in pixels. Initial value is 256 x 256.
+   */
+  vtkSetVector2Macro(ImageSize, int);
+  vtkGetVector2Macro(ImageSize, int);
+  ///@}
+
+  /**
+   * Compute the camera frame. Returns false and reports an error for a missing camera, an
+   * image size below 1 pixel, a position equal to the focal point, a view up parallel to the
+   * view direction, or a view angle or parallel scale that is not positive.
+   */
+  bool Prepare();
+
+  /**
+   * Ray of pixel (i, j): origin and unit direction in world coordinates. Requires Prepare().
+   */
+  void GetPixelRay(int i, int j, double origin[3], double direction[3]) const;
+
+  /**
+   * Ray through image coordinates (x, y) in [-1, 1]^2 (the pixel centre formula above).
+   */
+  void GetRay(double x, double y, double origin[3], double direction[3]) const;
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkCameraRayModel();
+  ~vtkCameraRayModel() override;
+
+  vtkCamera* Camera = nullptr;
+  int ImageSize[2] = { 256, 256 };
+
+  // Frame computed by Prepare().
+  double Position[3] = { 0, 0, 0 };
+  double Forward[3] = { 0, 0, -1 };
+  double Right[3] = { 1, 0, 0 };
+  double Up[3] = { 0, 1, 0 };
+  double HalfWidth = 1.0;  // parallel: world units; perspective: tangent
+  double HalfHeight = 1.0; // idem
+  bool Parallel = false;
+
+private:
+  vtkCameraRayModel(const vtkCameraRayModel&) = delete;
+  void operator=(const vtkCameraRayModel&) = delete;
+};
+
+#endif

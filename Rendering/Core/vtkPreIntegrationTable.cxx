@@ -1,0 +1,118 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkPreIntegrationTable.h"
+
+#include "vtkFloatArray.h"
+#include "vtkTimerLog.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTable::vtkPreIntegrationTable()
+  : Sampler(vtkVolumeTransferFunctionSampler::New())
+  , Table(vtkFloatArray::New())
+{
+  this->Table->SetNumberOfComponents(4);
+  this->Table->SetName("PreIntegrationTable");
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTable::~vtkPreIntegrationTable()
+{
+  this->Sampler->Delete();
+  this->Table->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTable::SetVolumeProperty(vtkVolumeProperty* property)
+{
+  this->Sampler->SetFromVolumeProperty(property);
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPreIntegrationTable::GetMemorySize() const
+{
+  return this->Table->GetNumberOfValues() * static_cast<vtkIdType>(sizeof(float));
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTable::Update()
+{
+  if (!(this->SegmentLength > 0.0) || !std::isfinite(this->SegmentLength))
+  {
+    vtkErrorMacro("The segment length must be positive and finite, got " << this->SegmentLength
+                                                                         << ".");
+    return false;
+  }
+  if (!(this->ScalarRange[1] > this->ScalarRange[0]) || !std::isfinite(this->ScalarRange[0]) ||
+    !std::isfinite(this->ScalarRange[1]))
+  {
+    vtkErrorMacro("The scalar range must be finite and non-empty, got ["
+      << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "].");
+    return false;
+  }
+  if (!this->Sampler->Prepare())
+  {
+    return false;
+  }
+  const vtkMTimeType mtime = std::max(this->GetMTime(), this->Sampler->GetMTime());
+  if (mtime <= this->BuildMTime && this->Table->GetNumberOfTuples() > 0)
+  {
+    return true;
+  }
+  vtkIdType entries = 1;
+  for (int d = 0; d < this->GetNumberOfDimensions(); ++d)
+  {
+    entries *= this->TableSize;
+  }
+  const double start = vtkTimerLog::GetUniversalTime();
+  this->Table->SetNumberOfTuples(entries);
+  this->BuildTable();
+  this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;
+  this->BuildCount++;
+  this->BuildMTime = mtime;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationTable::SuggestTableSize(int scalarType, const double range[2],
+  vtkVolumeTransferFunctionSampler* sampler, int minimumSize, int maximumSize,
+  double entriesPerFeature)
+{
+  const double width = range[1] - range[0];
+  if (!(width > 0.0) || !std::isfinite(width))
+  {
+    return std::max(2, minimumSize);
+  }
+  const double feature = std::min(sampler->GetSmallestFeature(), width);
+  const bool integer = scalarType != VTK_FLOAT && scalarType != VTK_DOUBLE;
+  if (integer)
+  {
+    // Put entries on every integer value (lookups at voxel values are exact), subdivided
+    // until the narrowest feature gets its entries and the minimum size is reached.
+    double m = std::max(1.0, std::ceil(entriesPerFeature / feature));
+    while (width * m + 1.0 < minimumSize)
+    {
+      m += 1.0;
+    }
+    if (width * m + 1.0 <= maximumSize)
+    {
+      return static_cast<int>(width * m + 1.0);
+    }
+  }
+  const double wanted = std::ceil(entriesPerFeature * width / feature) + 1.0;
+  return static_cast<int>(
+    std::min(std::max(wanted, static_cast<double>(minimumSize)), static_cast<double>(maximumSize)));
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SegmentLength: " << this->SegmentLength << "\n";
+  os << indent << "ScalarRange: " << this->ScalarRange[0] << " " << this->ScalarRange[1] << "\n";
+  os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "BuildCount: " << this->BuildCount << "\n";
+  os << indent << "LastBuildTime: " << this->LastBuildTime << "\n";
+}

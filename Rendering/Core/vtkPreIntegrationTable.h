@@ -1,0 +1,129 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkPreIntegrationTable
+ * @brief   abstract base of the pre-integration tables: what they share and when they rebuild
+ *
+ * A pre-integration table stores, for ray segments of a fixed length SegmentLength whose
+ * scalar follows a prescribed shape between table entries, the segment's premultiplied colour
+ * and opacity (RGBA, float) with self-attenuation inside the segment. The table axes sample
+ * ScalarRange at TableSize equispaced scalars, entry 0 at ScalarRange[0] and entry
+ * TableSize - 1 at ScalarRange[1]; a shader looks a scalar s up at texture coordinate
+ * ((s - r0) / (r1 - r0) (N - 1) + 1/2) / N so that entries sit at texel centres.
+ *
+ * Subclasses define the dimension and the segment model (first order: 2D over front and back
+ * scalar; second order: 3D over front, middle and back) by implementing BuildTable().
+ * Update() rebuilds only when the transfer functions, the unit distance, the segment length,
+ * the scalar range or the table size changed; GetBuildCount() counts the rebuilds.
+ */
+#ifndef vtkPreIntegrationTable_h
+#define vtkPreIntegrationTable_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkObject.h"
+
+class vtkDataArray;
+class vtkFloatArray;
+class vtkVolumeProperty;
+class vtkVolumeTransferFunctionSampler;
+
+class HOVRRENDERINGCORE_EXPORT vtkPreIntegrationTable : public vtkObject
+{
+public:
+  vtkTypeMacro(vtkPreIntegrationTable, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The transfer functions and unit distance the table integrates (owned by the table).
+   */
+  vtkVolumeTransferFunctionSampler* GetSampler() { return this->Sampler; }
+
+  /**
+   * Take the transfer functions and unit distance of component 0 of a volume property.
+   * Does not mark the table modified unless something the table depends on changed.
+   */
+  void SetVolumeProperty(vtkVolumeProperty* property);
+
+  ///@{
+  /**
+   * Length of a ray segment in world units; must be positive. Initial value is 1.0.
+   */
+  vtkSetMacro(SegmentLength, double);
+  vtkGetMacro(SegmentLength, double);
+  ///@}
+
+  ///@{
+  /**
+   * Scalar range spanned by the table axes. Initial value is [0, 255].
+   */
+  vtkSetVector2Macro(ScalarRange, double);
+  vtkGetVector2Macro(ScalarRange, double);
+  ///@}
+
+  ///@{
+  /**
+   * Number of entries along each scalar axis, at least 2. Initial value is 256.
+   */
+  vtkSetClampMacro(TableSize, int, 2, 65536);
+  vtkGetMacro(TableSize, int);
+  ///@}
+
+  /**
+   * Rebuild the table if anything it depends on changed. Returns false and reports an error
+   * for invalid settings (missing transfer function, non-positive lengths, empty range).
+   */
+  bool Update();
+
+  /**
+   * The table, RGBA float, entries along the first axis fastest; valid after Update().
+   */
+  vtkFloatArray* GetTable() { return this->Table; }
+
+  /**
+   * Number of table dimensions (2 or 3).
+   */
+  virtual int GetNumberOfDimensions() const = 0;
+
+  ///@{
+  /**
+   * Statistics: rebuilds so far, wall time of the last build in seconds, table size in bytes.
+   */
+  vtkGetMacro(BuildCount, int);
+  vtkGetMacro(LastBuildTime, double);
+  vtkIdType GetMemorySize() const;
+  ///@}
+
+  /**
+   * A table size matched to the data and the transfer function: one entry per integer value
+   * for integer data with at most MaximumSize values, otherwise enough entries to put
+   * EntriesPerFeature entries across the narrowest transfer-function feature (clamped to
+   * [MinimumSize, MaximumSize]). The sampler must be prepared.
+   */
+  static int SuggestTableSize(int scalarType, const double range[2],
+    vtkVolumeTransferFunctionSampler* sampler, int minimumSize, int maximumSize,
+    double entriesPerFeature = 4.0);
+
+protected:
+  vtkPreIntegrationTable();
+  ~vtkPreIntegrationTable() override;
+
+  /**
+   * Fill this->Table (already sized to TableSize^dimensions RGBA tuples) from the prepared
+   * sampler. Called by Update() only when needed.
+   */
+  virtual void BuildTable() = 0;
+
+  vtkVolumeTransferFunctionSampler* Sampler;
+  vtkFloatArray* Table;
+  double SegmentLength = 1.0;
+  double ScalarRange[2] = { 0.0, 255.0 };
+  int TableSize = 256;
+  int BuildCount = 0;
+  double LastBuildTime = 0.0;
+  vtkMTimeType BuildMTime = 0;
+
+private:
+  vtkPreIntegrationTable(const vtkPreIntegrationTable&) = delete;
+  void operator=(const vtkPreIntegrationTable&) = delete;
+};
+
+#endif

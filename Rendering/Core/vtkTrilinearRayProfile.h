@@ -1,0 +1,51 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkTrilinearRayProfile
+ * @brief   the cubic that a trilinearly interpolated scalar follows along a ray in one cell
+ *
+ * Inside a cell, the trilinear interpolant restricted to the ray u(t) = u0 + t v (local cell
+ * coordinates in [0, 1]^3) is a cubic s(t) = c3 t^3 + c2 t^2 + c1 t + c0. A lightweight value
+ * class (not a vtkObject, not wrapped) for inner loops of CPU ray casters.
+ */
+#ifndef vtkTrilinearRayProfile_h
+#define vtkTrilinearRayProfile_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+
+class HOVRRENDERINGCORE_EXPORT vtkTrilinearRayProfile
+{
+public:
+  /**
+   * Set the profile from the 8 corner values, indexed i + 2 j + 4 k, the entry point u0 in
+   * local cell coordinates and the direction v in local units per unit of t.
+   */
+  void Set(const double corner[8], const double u0[3], const double v[3]);
+
+  /**
+   * s(t).
+   */
+  double Evaluate(double t) const { return ((this->C[3] * t + this->C[2]) * t + this->C[1]) * t + this->C[0]; }
+
+  /**
+   * ds/dt at t.
+   */
+  double Derivative(double t) const
+  {
+    return (3.0 * this->C[3] * t + 2.0 * this->C[2]) * t + this->C[1];
+  }
+
+  /**
+   * Largest |ds/dt| over [0, length]: a bound on how fast the scalar can change there.
+   */
+  double GetMaximumSlope(double length) const;
+
+  /**
+   * Coefficients c0..c3.
+   */
+  const double* GetCoefficients() const { return this->C; }
+
+private:
+  double C[4] = { 0, 0, 0, 0 };
+};
+
+#endif

@@ -1,0 +1,359 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkVolumeReferenceIntegrator.h"
+
+#include "vtkCamera.h"
+#include "vtkCameraRayModel.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkGridRayTraversal.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTrilinearRayProfile.h"
+#include "vtkVolumeProperty.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkVolumeReferenceIntegrator);
+vtkCxxSetObjectMacro(vtkVolumeReferenceIntegrator, VolumeProperty, vtkVolumeProperty);
+
+namespace
+{
+// Everything a ray needs, read-only and shared by the threads.
+struct VolumeGrid
+{
+  std::vector<double> Values; // x fastest
+  int Dims[3];
+  double PhysicalToIndex[16]; // world point -> 0-based continuous grid index
+};
+
+class RayCaster
+{
+public:
+  const VolumeGrid& Grid;
+  const vtkCameraRayModel* Rays;
+  const vtkVolumeTransferFunctionSampler* Sampler;
+  double ScalarStep;
+  double Cutoff;
+  int Width;
+  float* Output;
+  vtkSMPThreadLocal<vtkIdType> Samples;
+
+  RayCaster(const VolumeGrid& grid, const vtkCameraRayModel* rays,
+    const vtkVolumeTransferFunctionSampler* sampler, double scalarStep, double cutoff, int width,
+    float* output)
+    : Grid(grid)
+    , Rays(rays)
+    , Sampler(sampler)
+    , ScalarStep(scalarStep)
+    , Cutoff(cutoff)
+    , Width(width)
+    , Output(output)
+    , Samples(0)
+  {
+  }
+
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    vtkIdType& samples = this->Samples.Local();
+    for (vtkIdType p = begin; p < end; ++p)
+    {
+      double rgba[4];
+      samples += this->CastRay(static_cast<int>(p % this->Width),
+        static_cast<int>(p / this->Width), rgba);
+      std::copy(rgba, rgba + 4, this->Output + 4 * p);
+    }
+  }
+
+  // Integrates one pixel ray; returns the number of integration pieces evaluated.
+  vtkIdType CastRay(int i, int j, double rgba[4]) const
+  {
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    double origin[3], direction[3], o[3], v[3];
+    this->Rays->GetPixelRay(i, j, origin, direction);
+    const double* m = this->Grid.PhysicalToIndex;
+    for (int r = 0; r < 3; ++r)
+    {
+      o[r] = m[4 * r] * origin[0] + m[4 * r + 1] * origin[1] + m[4 * r + 2] * origin[2] +
+        m[4 * r + 3];
+      v[r] = m[4 * r] * direction[0] + m[4 * r + 1] * direction[1] + m[4 * r + 2] * direction[2];
+    }
+    // Parallel rays start on the plane through the camera: volume behind it is not seen,
+    // as with VTK's near plane; perspective rays start at the eye.
+    vtkGridRayTraversal walk;
+    if (!walk.Initialize(this->Grid.Dims, o, v, 0.0, VTK_DOUBLE_MAX))
+    {
+      return 0;
+    }
+    const int* dims = this->Grid.Dims;
+    const vtkIdType sy = dims[0];
+    const vtkIdType sz = static_cast<vtkIdType>(dims[0]) * dims[1];
+    const double* values = this->Grid.Values.data();
+    double transmittance = 1.0;
+    vtkIdType pieces = 0;
+    int cell[3];
+    double t0, t1;
+    while (walk.Next(cell, t0, t1))
+    {
+      const double length = t1 - t0;
+      if (!(length > 0.0))
+      {
+        continue;
+      }
+      const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
+      const double corner[8] = { values[base], values[base + 1], values[base + sy],
+        values[base + sy + 1], values[base + sz], values[base + sz + 1],
+        values[base + sz + sy], values[base + sz + sy + 1] };
+      if (std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); }))
+      {
+        continue; // NaN anywhere in the cell makes the interpolant NaN: transparent.
+      }
+      const auto range = std::minmax_element(corner, corner + 8);
+      if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
+      {
+        continue; // The interpolant stays within the corner range: exactly empty.
+      }
+      double u0[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        u0[a] = o[a] + t0 * v[a] - cell[a];
+      }
+      vtkTrilinearRayProfile profile;
+      profile.Set(corner, u0, v);
+      const double variation = length * profile.GetMaximumSlope(length);
+      const double n = std::min(std::ceil(variation / this->ScalarStep), 1e6);
+      const int count = std::max(1, static_cast<int>(n));
+      const double h = length / count;
+      for (int k = 0; k < count; ++k)
+      {
+        double sample[4];
+        this->Sampler->Evaluate(profile.Evaluate((k + 0.5) * h), sample);
+        // Exact for a piece of constant colour and extinction.
+        const double alpha = -std::expm1(-sample[3] * h);
+        const double weight = transmittance * alpha;
+        rgba[0] += weight * sample[0];
+        rgba[1] += weight * sample[1];
+        rgba[2] += weight * sample[2];
+        transmittance *= 1.0 - alpha;
+      }
+      pieces += count;
+      if (transmittance < this->Cutoff)
+      {
+        break;
+      }
+    }
+    rgba[3] = 1.0 - transmittance;
+    return pieces;
+  }
+};
+}
+
+//------------------------------------------------------------------------------
+vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator()
+  : RayModel(vtkCameraRayModel::New())
+  , Sampler(vtkVolumeTransferFunctionSampler::New())
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+//------------------------------------------------------------------------------
+vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator()
+{
+  this->SetVolumeProperty(nullptr);
+  this->RayModel->Delete();
+  this->Sampler->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeReferenceIntegrator::SetCamera(vtkCamera* camera)
+{
+  this->RayModel->SetCamera(camera);
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkCamera* vtkVolumeReferenceIntegrator::GetCamera()
+{
+  return this->RayModel->GetCamera();
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeReferenceIntegrator::SetImageSize(int w, int h)
+{
+  const int* size = this->RayModel->GetImageSize();
+  if (size[0] != w || size[1] != h)
+  {
+    this->RayModel->SetImageSize(w, h);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int* vtkVolumeReferenceIntegrator::GetImageSize()
+{
+  return this->RayModel->GetImageSize();
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkVolumeReferenceIntegrator::GetMTime()
+{
+  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->RayModel->GetMTime());
+  if (this->VolumeProperty)
+  {
+    t = std::max(t, this->VolumeProperty->GetMTime());
+    this->Sampler->SetFromVolumeProperty(this->VolumeProperty);
+    t = std::max(t, this->Sampler->GetMTime());
+  }
+  return t;
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeReferenceIntegrator::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeReferenceIntegrator::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int* size = this->RayModel->GetImageSize();
+  int extent[6] = { 0, std::max(size[0], 1) - 1, 0, std::max(size[1], 1) - 1, 0, 0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 4);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeReferenceIntegrator::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Every ray may cross the whole volume.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeReferenceIntegrator::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->NumberOfSamples = 0;
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  const int* size = this->RayModel->GetImageSize();
+  const int width = std::max(size[0], 1), height = std::max(size[1], 1);
+  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+  vtkNew<vtkFloatArray> rgba;
+  rgba->SetName("RGBA");
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  rgba->FillValue(0.0f);
+  output->GetPointData()->SetScalars(rgba);
+
+  // Validate; on error the output stays a transparent image of the requested size.
+  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
+  if (!input || !scalars)
+  {
+    vtkErrorMacro("The input has no point scalars to render.");
+    return 1;
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    vtkErrorMacro("Only single-component scalars can be rendered; array '"
+      << (scalars->GetName() ? scalars->GetName() : "") << "' has "
+      << scalars->GetNumberOfComponents() << " components.");
+    return 1;
+  }
+  int dims[3];
+  input->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
+      << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
+    return 1;
+  }
+  if (!this->VolumeProperty)
+  {
+    vtkErrorMacro("No volume property (transfer functions) was given.");
+    return 1;
+  }
+  this->Sampler->SetFromVolumeProperty(this->VolumeProperty);
+  if (!this->Sampler->Prepare() || !this->RayModel->Prepare())
+  {
+    return 1;
+  }
+
+  VolumeGrid grid;
+  std::copy(dims, dims + 3, grid.Dims);
+  const vtkIdType n = scalars->GetNumberOfTuples();
+  grid.Values.resize(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    grid.Values[i] = scalars->GetComponent(i, 0);
+  }
+  // World point -> absolute structured index -> 0-based grid index.
+  const int* extent = input->GetExtent();
+  std::copy(input->GetPhysicalToIndexMatrix()->GetData(),
+    input->GetPhysicalToIndexMatrix()->GetData() + 16, grid.PhysicalToIndex);
+  for (int r = 0; r < 3; ++r)
+  {
+    grid.PhysicalToIndex[4 * r + 3] -= extent[2 * r];
+  }
+
+  double range[2];
+  scalars->GetRange(range, 0);
+  const double dataRange = std::isfinite(range[1] - range[0]) ? range[1] - range[0] : 0.0;
+  double feature = std::min(this->Sampler->GetSmallestFeature(), dataRange);
+  if (!(feature > 0.0) || feature == VTK_DOUBLE_MAX)
+  {
+    feature = 1.0; // flat data or a constant transfer function: every piece is exact
+  }
+  RayCaster caster(grid, this->RayModel, this->Sampler, this->ScalarTolerance * feature,
+    this->TransmittanceCutoff, width, rgba->GetPointer(0));
+
+  // Rows in chunks so progress and abort requests are handled on this thread.
+  const int chunks = std::min(height, 20);
+  for (int c = 0; c < chunks && !this->GetAbortExecute(); ++c)
+  {
+    const vtkIdType rowBegin = static_cast<vtkIdType>(height) * c / chunks;
+    const vtkIdType rowEnd = static_cast<vtkIdType>(height) * (c + 1) / chunks;
+    vtkSMPTools::For(rowBegin * width, rowEnd * width, caster);
+    this->UpdateProgress(static_cast<double>(c + 1) / chunks);
+  }
+  for (vtkIdType s : caster.Samples)
+  {
+    this->NumberOfSamples += s;
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
+  os << indent << "ImageSize: " << this->RayModel->GetImageSize()[0] << " "
+     << this->RayModel->GetImageSize()[1] << "\n";
+  os << indent << "ScalarTolerance: " << this->ScalarTolerance << "\n";
+  os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";
+  os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
+}

@@ -1,0 +1,117 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkVolumeReferenceIntegrator
+ * @brief   ground truth: the volume-rendering integral through the trilinear field, on the CPU
+ *
+ * Computes, in double precision and for every pixel ray of vtkCameraRayModel, the emission-
+ * absorption integral C = int c(s(t)) tau(s(t)) exp(-int_0^t tau) dt through the trilinearly
+ * interpolated point scalars of the input image, with the transfer-function meaning of
+ * vtkVolumeTransferFunctionSampler. This is the yardstick every hovr method is measured by.
+ *
+ * How: the ray is walked cell by cell (vtkGridRayTraversal). Inside a cell the scalar is an
+ * exact cubic in t (vtkTrilinearRayProfile); the cell segment is cut into n pieces such that
+ * the scalar changes by at most ScalarTolerance * (narrowest transfer-function feature) per
+ * piece, n being taken from a bound on |ds/dt|. Each piece is integrated with colour and
+ * extinction of its midpoint scalar, which is exact for constant pieces and converges as
+ * O(ScalarTolerance^2) otherwise (the convergence is tested). Cells whose corner range has
+ * zero opacity everywhere are skipped exactly (the interpolant stays inside the corner
+ * range). The walk stops when the transmittance falls below TransmittanceCutoff.
+ *
+ * Output: a W x H x 1 image, pixel (i, j) counted from left and bottom, with point data
+ * "RGBA" (float, premultiplied: accumulated emission, alpha = 1 - transmittance) over a
+ * transparent black background. Multithreaded with vtkSMPTools; fires progress events.
+ *
+ * The input must be a vtkImageData with a single-component point scalar array of at least
+ * 2 points along each axis; NaN scalars are transparent. Other inputs give an error and an
+ * empty (transparent) image.
+ */
+#ifndef vtkVolumeReferenceIntegrator_h
+#define vtkVolumeReferenceIntegrator_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkImageAlgorithm.h"
+
+class vtkCamera;
+class vtkCameraRayModel;
+class vtkVolumeProperty;
+class vtkVolumeTransferFunctionSampler;
+
+class HOVRRENDERINGCORE_EXPORT vtkVolumeReferenceIntegrator : public vtkImageAlgorithm
+{
+public:
+  static vtkVolumeReferenceIntegrator* New();
+  vtkTypeMacro(vtkVolumeReferenceIntegrator, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Transfer functions and opacity unit distance (component 0). Initial value is nullptr.
+   */
+  virtual void SetVolumeProperty(vtkVolumeProperty*);
+  vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
+  ///@}
+
+  ///@{
+  /**
+   * The camera. Initial value is nullptr.
+   */
+  virtual void SetCamera(vtkCamera*);
+  vtkCamera* GetCamera();
+  ///@}
+
+  ///@{
+  /**
+   * Output image size in pixels. Initial value is 256 x 256.
+   */
+  virtual void SetImageSize(int w, int h);
+  virtual void SetImageSize(const int size[2]) { this->SetImageSize(size[0], size[1]); }
+  int* GetImageSize() VTK_SIZEHINT(2);
+  ///@}
+
+  ///@{
+  /**
+   * Largest change of the scalar within one integration piece, as a fraction of the narrowest
+   * transfer-function feature (the smallest distance between two nodes, at most the data
+   * range). Halving it divides the error by about four. Initial value is 1/64.
+   */
+  vtkSetClampMacro(ScalarTolerance, double, 1e-6, 1.0);
+  vtkGetMacro(ScalarTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Rays stop when the transmittance falls below this value. Initial value is 1e-7.
+   */
+  vtkSetClampMacro(TransmittanceCutoff, double, 0.0, 1.0);
+  vtkGetMacro(TransmittanceCutoff, double);
+  ///@}
+
+  /**
+   * Number of integration pieces evaluated by the last update: the samples per frame.
+   */
+  vtkGetMacro(NumberOfSamples, vtkIdType);
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkVolumeReferenceIntegrator();
+  ~vtkVolumeReferenceIntegrator() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkVolumeProperty* VolumeProperty = nullptr;
+  vtkCameraRayModel* RayModel;
+  vtkVolumeTransferFunctionSampler* Sampler;
+  double ScalarTolerance = 1.0 / 64.0;
+  double TransmittanceCutoff = 1e-7;
+  vtkIdType NumberOfSamples = 0;
+
+private:
+  vtkVolumeReferenceIntegrator(const vtkVolumeReferenceIntegrator&) = delete;
+  void operator=(const vtkVolumeReferenceIntegrator&) = delete;
+};
+
+#endif

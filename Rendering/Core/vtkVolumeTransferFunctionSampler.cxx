@@ -1,0 +1,308 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include "vtkColorTransferFunction.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+vtkStandardNewMacro(vtkVolumeTransferFunctionSampler);
+vtkCxxSetObjectMacro(vtkVolumeTransferFunctionSampler, Color, vtkColorTransferFunction);
+vtkCxxSetObjectMacro(vtkVolumeTransferFunctionSampler, ScalarOpacity, vtkPiecewiseFunction);
+
+namespace
+{
+// One node of a piecewise function with up to three values (opacity: 1, colour: 3).
+struct Node
+{
+  double X;
+  double Y[3];
+  double Midpoint;
+  double Sharpness;
+};
+
+// VTK's interpolation between two nodes (vtkPiecewiseFunction::GetTable and
+// vtkColorTransferFunction::GetTable in RGB): the position is remapped through the midpoint,
+// then either held (sharpness > 0.99), linear (sharpness < 0.01) or a sharpened Hermite curve.
+// Returns the weights (w1, w2, wt) of y1, y2 and the slope term for the caller to combine.
+inline void InterpolateNodes(const Node& a, const Node& b, double x, int n, double* out)
+{
+  const double midpoint = std::min(std::max(a.Midpoint, 0.00001), 0.99999);
+  const double sharpness = a.Sharpness;
+  double s = (x - a.X) / (b.X - a.X);
+  s = s < midpoint ? 0.5 * s / midpoint : 0.5 + 0.5 * (s - midpoint) / (1.0 - midpoint);
+  if (sharpness > 0.99)
+  {
+    for (int c = 0; c < n; ++c)
+    {
+      out[c] = s < 0.5 ? a.Y[c] : b.Y[c];
+    }
+    return;
+  }
+  if (sharpness < 0.01)
+  {
+    for (int c = 0; c < n; ++c)
+    {
+      out[c] = (1.0 - s) * a.Y[c] + s * b.Y[c];
+    }
+    return;
+  }
+  if (s < 0.5)
+  {
+    s = 0.5 * std::pow(s * 2.0, 1.0 + 10.0 * sharpness);
+  }
+  else if (s > 0.5)
+  {
+    s = 1.0 - 0.5 * std::pow((1.0 - s) * 2.0, 1.0 + 10.0 * sharpness);
+  }
+  const double ss = s * s;
+  const double sss = ss * s;
+  const double h1 = 2.0 * sss - 3.0 * ss + 1.0;
+  const double h2 = -2.0 * sss + 3.0 * ss;
+  const double h3 = sss - 2.0 * ss + s;
+  const double h4 = sss - ss;
+  for (int c = 0; c < n; ++c)
+  {
+    const double t = (1.0 - sharpness) * (b.Y[c] - a.Y[c]);
+    const double v = h1 * a.Y[c] + h2 * b.Y[c] + h3 * t + h4 * t;
+    out[c] = std::min(std::max(v, std::min(a.Y[c], b.Y[c])), std::max(a.Y[c], b.Y[c]));
+  }
+}
+
+// Evaluates a node list at x with clamping to the end values.
+inline void EvaluateNodes(const std::vector<Node>& nodes, double x, int n, double* out)
+{
+  auto upper = std::upper_bound(
+    nodes.begin(), nodes.end(), x, [](double v, const Node& node) { return v < node.X; });
+  const Node* node = nullptr;
+  if (upper == nodes.end())
+  {
+    node = &nodes.back();
+  }
+  else if (upper == nodes.begin())
+  {
+    node = &nodes.front();
+  }
+  if (node)
+  {
+    std::copy(node->Y, node->Y + n, out);
+    return;
+  }
+  InterpolateNodes(*(upper - 1), *upper, x, n, out);
+}
+}
+
+class vtkVolumeTransferFunctionSampler::vtkInternals
+{
+public:
+  std::vector<Node> OpacityNodes;
+  std::vector<Node> ColorNodes;
+  double InverseUnitDistance = 1.0;
+  double MaximumOpacity = 1.0;
+  vtkMTimeType PreparedTime = 0;
+};
+
+//------------------------------------------------------------------------------
+vtkVolumeTransferFunctionSampler::vtkVolumeTransferFunctionSampler()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkVolumeTransferFunctionSampler::~vtkVolumeTransferFunctionSampler()
+{
+  this->SetColor(nullptr);
+  this->SetScalarOpacity(nullptr);
+  delete this->Internals;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::SetFromVolumeProperty(vtkVolumeProperty* property)
+{
+  if (!property)
+  {
+    this->SetColor(nullptr);
+    this->SetScalarOpacity(nullptr);
+    return;
+  }
+  // GetRGBTransferFunction would create a default function; a missing one must stay missing.
+  this->SetColor(property->GetColorChannels(0) == 3 ? property->GetRGBTransferFunction(0)
+                                                    : nullptr);
+  this->SetScalarOpacity(property->GetScalarOpacity(0));
+  this->SetScalarOpacityUnitDistance(property->GetScalarOpacityUnitDistance(0));
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkVolumeTransferFunctionSampler::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->Color)
+  {
+    t = std::max(t, this->Color->GetMTime());
+  }
+  if (this->ScalarOpacity)
+  {
+    t = std::max(t, this->ScalarOpacity->GetMTime());
+  }
+  return t;
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeTransferFunctionSampler::Prepare()
+{
+  if (!this->Color || this->Color->GetSize() < 1)
+  {
+    vtkErrorMacro("No colour transfer function (or one without nodes) was given.");
+    return false;
+  }
+  if (!this->ScalarOpacity || this->ScalarOpacity->GetSize() < 1)
+  {
+    vtkErrorMacro("No scalar opacity function (or one without nodes) was given.");
+    return false;
+  }
+  if (!(this->ScalarOpacityUnitDistance > 0.0) || !std::isfinite(this->ScalarOpacityUnitDistance))
+  {
+    vtkErrorMacro("The scalar opacity unit distance must be positive and finite, got "
+      << this->ScalarOpacityUnitDistance << ".");
+    return false;
+  }
+  vtkInternals& in = *this->Internals;
+  const vtkMTimeType now = this->GetMTime();
+  if (in.PreparedTime == now && !in.OpacityNodes.empty())
+  {
+    return true;
+  }
+  in.OpacityNodes.resize(this->ScalarOpacity->GetSize());
+  for (size_t i = 0; i < in.OpacityNodes.size(); ++i)
+  {
+    double v[4];
+    this->ScalarOpacity->GetNodeValue(static_cast<int>(i), v);
+    in.OpacityNodes[i] = Node{ v[0], { v[1], 0.0, 0.0 }, v[2], v[3] };
+  }
+  in.ColorNodes.resize(this->Color->GetSize());
+  for (size_t i = 0; i < in.ColorNodes.size(); ++i)
+  {
+    double v[6];
+    this->Color->GetNodeValue(static_cast<int>(i), v);
+    in.ColorNodes[i] = Node{ v[0], { v[1], v[2], v[3] }, v[4], v[5] };
+  }
+  auto byX = [](const Node& a, const Node& b) { return a.X < b.X; };
+  std::stable_sort(in.OpacityNodes.begin(), in.OpacityNodes.end(), byX);
+  std::stable_sort(in.ColorNodes.begin(), in.ColorNodes.end(), byX);
+  in.InverseUnitDistance = 1.0 / this->ScalarOpacityUnitDistance;
+  in.MaximumOpacity = this->MaximumOpacity;
+  in.PreparedTime = now;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::EvaluateOpacity(double s) const
+{
+  if (std::isnan(s))
+  {
+    return 0.0;
+  }
+  double a;
+  EvaluateNodes(this->Internals->OpacityNodes, s, 1, &a);
+  return std::min(std::max(a, 0.0), this->Internals->MaximumOpacity);
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::EvaluateExtinction(double s) const
+{
+  return -std::log1p(-this->EvaluateOpacity(s)) * this->Internals->InverseUnitDistance;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::Evaluate(double s, double rgbTau[4]) const
+{
+  if (std::isnan(s))
+  {
+    rgbTau[0] = rgbTau[1] = rgbTau[2] = rgbTau[3] = 0.0;
+    return;
+  }
+  EvaluateNodes(this->Internals->ColorNodes, s, 3, rgbTau);
+  rgbTau[3] = this->EvaluateExtinction(s);
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::Sample(double s0, double s1, int n, double* rgbTau) const
+{
+  for (int i = 0; i < n; ++i)
+  {
+    const double s = n > 1 ? s0 + (s1 - s0) * i / (n - 1.0) : 0.5 * (s0 + s1);
+    this->Evaluate(s, rgbTau + 4 * i);
+  }
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetMaximumOpacity(double s0, double s1) const
+{
+  if (s1 < s0)
+  {
+    std::swap(s0, s1);
+  }
+  double m = std::max(this->EvaluateOpacity(s0), this->EvaluateOpacity(s1));
+  for (const Node& node : this->Internals->OpacityNodes)
+  {
+    if (node.X > s0 && node.X < s1)
+    {
+      m = std::max(m, std::min(std::max(node.Y[0], 0.0), this->Internals->MaximumOpacity));
+    }
+  }
+  return m;
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetSmallestFeature() const
+{
+  std::vector<double> xs;
+  for (const Node& node : this->Internals->OpacityNodes)
+  {
+    xs.push_back(node.X);
+  }
+  for (const Node& node : this->Internals->ColorNodes)
+  {
+    xs.push_back(node.X);
+  }
+  std::sort(xs.begin(), xs.end());
+  double smallest = VTK_DOUBLE_MAX;
+  for (size_t i = 1; i < xs.size(); ++i)
+  {
+    if (xs[i] > xs[i - 1])
+    {
+      smallest = std::min(smallest, xs[i] - xs[i - 1]);
+    }
+  }
+  return smallest;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::GetNodeRange(double range[2]) const
+{
+  range[0] = VTK_DOUBLE_MAX;
+  range[1] = -VTK_DOUBLE_MAX;
+  for (const auto* nodes : { &this->Internals->OpacityNodes, &this->Internals->ColorNodes })
+  {
+    if (!nodes->empty())
+    {
+      range[0] = std::min(range[0], nodes->front().X);
+      range[1] = std::max(range[1], nodes->back().X);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Color: " << this->Color << "\n";
+  os << indent << "ScalarOpacity: " << this->ScalarOpacity << "\n";
+  os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
+  os << indent << "MaximumOpacity: " << this->MaximumOpacity << "\n";
+}

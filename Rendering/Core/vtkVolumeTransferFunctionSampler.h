@@ -1,0 +1,148 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkVolumeTransferFunctionSampler
+ * @brief   exact evaluation and tabulation of a scalar volume's transfer functions
+ *
+ * Turns a colour transfer function and a scalar opacity function into the two quantities of
+ * the volume-rendering integral C = int c(s) tau(s) exp(-int tau) dt:
+ *   - colour c(s), interpolated in RGB between the colour nodes,
+ *   - extinction tau(s) = -ln(1 - alpha(s)) / U, U being the scalar opacity unit distance,
+ * which is VTK's meaning of opacity (an opacity alpha per unit distance U).
+ *
+ * Evaluation reproduces the node semantics of vtkPiecewiseFunction and
+ * vtkColorTransferFunction (midpoint, sharpness, clamping to the end nodes) in double
+ * precision, from a private copy of the nodes made by Prepare(); after that it is thread-safe
+ * and does not touch the VTK functions. Colour is always interpolated in RGB and values
+ * outside the nodes take the end values, whatever the colour space and clamping flags say.
+ *
+ * Opacity is capped at MaximumOpacity so that the extinction stays finite: a transfer function
+ * opacity of exactly 1 means "opaque within a tiny distance", never an infinite coefficient.
+ *
+ * Every consumer of transfer functions in hovr (pre-integration tables, the reference
+ * integrator, the benchmark) goes through this class so that they agree on what the transfer
+ * function means.
+ */
+#ifndef vtkVolumeTransferFunctionSampler_h
+#define vtkVolumeTransferFunctionSampler_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkObject.h"
+
+class vtkColorTransferFunction;
+class vtkPiecewiseFunction;
+class vtkVolumeProperty;
+
+class HOVRRENDERINGCORE_EXPORT vtkVolumeTransferFunctionSampler : public vtkObject
+{
+public:
+  static vtkVolumeTransferFunctionSampler* New();
+  vtkTypeMacro(vtkVolumeTransferFunctionSampler, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Colour transfer function. Initial value is nullptr.
+   */
+  virtual void SetColor(vtkColorTransferFunction*);
+  vtkGetObjectMacro(Color, vtkColorTransferFunction);
+  ///@}
+
+  ///@{
+  /**
+   * Scalar opacity function: opacity per ScalarOpacityUnitDistance. Initial value is nullptr.
+   */
+  virtual void SetScalarOpacity(vtkPiecewiseFunction*);
+  vtkGetObjectMacro(ScalarOpacity, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /**
+   * Distance in world units over which ScalarOpacity holds; must be positive.
+   * Initial value is 1.0.
+   */
+  vtkSetMacro(ScalarOpacityUnitDistance, double);
+  vtkGetMacro(ScalarOpacityUnitDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Largest opacity honoured, in (0, 1). Initial value is 1 - 1e-9, so the largest extinction
+   * is about 20.7 / ScalarOpacityUnitDistance.
+   */
+  vtkSetClampMacro(MaximumOpacity, double, 1e-6, 1.0 - 1e-15);
+  vtkGetMacro(MaximumOpacity, double);
+  ///@}
+
+  /**
+   * Take colour, scalar opacity and unit distance of component 0 of a volume property.
+   */
+  void SetFromVolumeProperty(vtkVolumeProperty* property);
+
+  /**
+   * Check the settings and copy the nodes for evaluation. Returns false and reports an error
+   * if a function is missing or empty or the unit distance is not positive. Cheap when
+   * nothing changed since the last call.
+   */
+  bool Prepare();
+
+  /**
+   * Colour and extinction at scalar s: rgbTau = (r, g, b, tau). Requires Prepare().
+   * A NaN scalar gives a transparent black sample.
+   */
+  void Evaluate(double s, double rgbTau[4]) const;
+
+  /**
+   * Opacity alpha(s) of the scalar opacity function, capped at MaximumOpacity.
+   */
+  double EvaluateOpacity(double s) const;
+
+  /**
+   * Extinction tau(s) = -ln(1 - alpha(s)) / U.
+   */
+  double EvaluateExtinction(double s) const;
+
+  /**
+   * Sample n >= 2 equispaced scalars over [s0, s1], both included, into rgbTau (4 n values).
+   */
+  void Sample(double s0, double s1, int n, double* rgbTau) const;
+
+  /**
+   * Largest opacity over the closed scalar interval [s0, s1]. Exact: VTK's interpolation is
+   * monotone between nodes, so the maximum is at an end or a node.
+   */
+  double GetMaximumOpacity(double s0, double s1) const;
+
+  /**
+   * Smallest distance between two adjacent distinct nodes of either function: the width of
+   * the narrowest transfer-function feature. Returns VTK_DOUBLE_MAX with fewer than 2 nodes.
+   */
+  double GetSmallestFeature() const;
+
+  /**
+   * Scalar range spanned by the nodes of both functions.
+   */
+  void GetNodeRange(double range[2]) const;
+
+  /**
+   * Modification time including the transfer functions themselves.
+   */
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkVolumeTransferFunctionSampler();
+  ~vtkVolumeTransferFunctionSampler() override;
+
+  vtkColorTransferFunction* Color = nullptr;
+  vtkPiecewiseFunction* ScalarOpacity = nullptr;
+  double ScalarOpacityUnitDistance = 1.0;
+  double MaximumOpacity = 1.0 - 1e-9;
+
+private:
+  vtkVolumeTransferFunctionSampler(const vtkVolumeTransferFunctionSampler&) = delete;
+  void operator=(const vtkVolumeTransferFunctionSampler&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
+
+#endif

@@ -1,0 +1,106 @@
+// hovr: first-order pre-integrated classification (Engel, Kraus and Ertl 2001; El Hajjar et
+// al., section 3.2.2). The ray is cut into segments between consecutive samples; a segment's
+// premultiplied colour and opacity, self-attenuation included, come from a 2D table over
+// (front scalar, back scalar) built for the sample distance. The first segment starts at the
+// ray's entry point and the last one ends where the ray leaves the volume or is terminated,
+// so that no slab at the faces is lost or counted twice.
+//
+// Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
+// vtkPreIntegrationVolumeMapper: hovr_preintInit/Step/Exit replace //VTK::Shading::Init,
+// ::Impl and ::Exit.
+
+uniform sampler2D hovr_preintTable;
+// Table texture coordinate of a raw texture value: raw * x + y.
+uniform vec2 hovr_rawToTable;
+
+float hovr_sFront;   // table coordinate of the previous sample
+vec3 hovr_entry;     // where the ray entered the volume (texture coordinates)
+
+float hovr_tableCoord(vec3 pos)
+{
+  return texture(in_volume[0], pos).r * hovr_rawToTable.x + hovr_rawToTable.y;
+}
+
+// Steps (in units of g_dirStep) from pos to where the ray leaves the volume's box.
+float hovr_stepsToExit(vec3 pos)
+{
+  vec3 bound = mix(in_texMin[0], in_texMax[0], step(vec3(0.0), g_dirStep));
+  vec3 steps = vec3(1e30);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (g_dirStep[a] != 0.0)
+    {
+      steps[a] = (bound[a] - pos[a]) / g_dirStep[a];
+    }
+  }
+  return min(steps.x, min(steps.y, steps.z));
+}
+
+// Composite the segment (sFront, sBack) covering `fraction` of the sample distance. A partial
+// segment keeps the table's colour per opacity and rescales the optical depth by its length,
+// which is exact for a constant scalar.
+void hovr_compositeSegment(float sFront, float sBack, float fraction)
+{
+  if (!(fraction > 0.0) || isnan(sFront) || isnan(sBack))
+  {
+    return;
+  }
+  vec4 segment = texture(hovr_preintTable, vec2(sFront, sBack));
+  if (fraction < 1.0)
+  {
+    float alpha = 1.0 - pow(max(1.0 - segment.a, 0.0), fraction);
+    segment.rgb *= segment.a > 1e-6 ? alpha / segment.a : fraction;
+    segment.a = alpha;
+  }
+  g_fragColor += (1.0 - g_fragColor.a) * segment;
+}
+
+void hovr_preintInit()
+{
+  hovr_entry = g_dataPos - g_rayJitter;
+  hovr_sFront = hovr_tableCoord(hovr_entry);
+}
+
+void hovr_preintStep()
+{
+  float sBack = hovr_tableCoord(g_dataPos);
+  if (!g_skip)
+  {
+    float fraction;
+    if (g_currentT == 0.0)
+    {
+      // From the entry to the first sample: one jitter offset, unless the box ends first.
+      fraction = length(g_rayJitter) / length(g_dirStep);
+      float inside = hovr_stepsToExit(hovr_entry);
+      if (inside < fraction)
+      {
+        fraction = inside;
+        sBack = hovr_tableCoord(hovr_entry + inside * g_dirStep);
+      }
+    }
+    else
+    {
+      // Segments past a termination point (depth buffer, clipping) count only up to it.
+      fraction = clamp(g_terminatePointMax - (g_currentT - 1.0), 0.0, 1.0);
+    }
+    hovr_compositeSegment(hovr_sFront, sBack, fraction);
+  }
+  hovr_sFront = sBack;
+}
+
+void hovr_preintExit()
+{
+  // The loop stopped after the sample at g_dataPos - g_dirStep (index g_currentT): add the
+  // partial segment from it to the box exit or the termination point, whichever comes first.
+  if (g_skip || g_fragColor.a > g_opacityThreshold)
+  {
+    return;
+  }
+  vec3 last = g_dataPos - g_dirStep;
+  float fraction = min(hovr_stepsToExit(last), g_terminatePointMax - g_currentT);
+  fraction = min(fraction, 1.0);
+  if (fraction > 0.0)
+  {
+    hovr_compositeSegment(hovr_sFront, hovr_tableCoord(last + fraction * g_dirStep), fraction);
+  }
+}

@@ -1,0 +1,118 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkExtensibleGPUVolumeRayCastMapper.h"
+
+#include "vtkInformation.h"
+#include "vtkInformationObjectBaseVectorKey.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderPass.h"
+#include "vtkShaderProgram.h"
+#include "vtkVolume.h"
+
+//------------------------------------------------------------------------------
+// The hook: a render pass that is never rendered as a pass. The ray caster calls it while it
+// builds its shader and on every draw (see the class documentation).
+class vtkGPURayCastShaderHook : public vtkOpenGLRenderPass
+{
+public:
+  static vtkGPURayCastShaderHook* New();
+  vtkTypeMacro(vtkGPURayCastShaderHook, vtkOpenGLRenderPass);
+
+  vtkExtensibleGPUVolumeRayCastMapper* Mapper = nullptr;
+
+  void Render(const vtkRenderState*) override {}
+
+  bool PreReplaceShaderValues(std::string& vertexShader, std::string&, std::string& fragmentShader,
+    vtkAbstractMapper*, vtkProp* prop) override
+  {
+    return this->Mapper->ReplaceExtensionShaderValues(
+      vertexShader, fragmentShader, vtkVolume::SafeDownCast(prop));
+  }
+
+  bool SetShaderParameters(vtkShaderProgram* program, vtkAbstractMapper*, vtkProp* prop,
+    vtkOpenGLVertexArrayObject*) override
+  {
+    this->Mapper->SetExtensionShaderParameters(program, vtkVolume::SafeDownCast(prop));
+    return true;
+  }
+
+  vtkMTimeType GetShaderStageMTime() override { return this->Mapper->ExtensionShaderTime; }
+
+protected:
+  vtkGPURayCastShaderHook() { this->ActiveDrawBuffers = 1; }
+  ~vtkGPURayCastShaderHook() override = default;
+};
+vtkStandardNewMacro(vtkGPURayCastShaderHook);
+
+//------------------------------------------------------------------------------
+vtkExtensibleGPUVolumeRayCastMapper::vtkExtensibleGPUVolumeRayCastMapper()
+  : Hook(vtkGPURayCastShaderHook::New())
+{
+  this->Hook->Mapper = this;
+  this->AutoAdjustSampleDistances = 0;
+  this->ExtensionShaderTime.Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
+{
+  this->Hook->Mapper = nullptr;
+  this->Hook->Delete();
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(
+  std::string& source, const std::string& tag, const std::string& code, bool keepTag)
+{
+  return vtkShaderProgram::Substitute(source, tag, keepTag ? code + "\n" + tag : code, false);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
+{
+  const FramePlan plan = this->PrepareExtension(ren, vol);
+  if (plan == DrawNothing)
+  {
+    return;
+  }
+  if (plan == DrawStock)
+  {
+    this->Superclass::GPURender(ren, vol);
+    return;
+  }
+
+  // Attach the hook for this draw only, next to any pass already there (e.g. depth peeling).
+  vtkInformation* keys = vol->GetPropertyKeys();
+  if (!keys)
+  {
+    vtkNew<vtkInformation> info;
+    vol->SetPropertyKeys(info);
+    keys = info;
+  }
+  vtkInformationObjectBaseVectorKey* passes = vtkOpenGLRenderPass::RenderPasses();
+  passes->Append(keys, this->Hook);
+
+  this->ActivateExtensionTextures();
+  this->Superclass::GPURender(ren, vol);
+  this->DeactivateExtensionTextures();
+  this->ExtensionFrameCount++;
+
+  passes->Remove(keys, this->Hook);
+  if (passes->Length(keys) == 0)
+  {
+    keys->Remove(passes);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->ReleaseExtensionResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
+}

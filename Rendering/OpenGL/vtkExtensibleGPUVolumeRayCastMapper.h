@@ -1,0 +1,98 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkExtensibleGPUVolumeRayCastMapper
+ * @brief   VTK's GPU ray caster with a per-frame hook for own GLSL, textures and uniforms
+ *
+ * The base of every hovr mapper. vtkOpenGLGPUVolumeRayCastMapper builds its fragment shader
+ * from a template with //VTK:: tags but does not let subclasses edit it (the replacement
+ * methods are not virtual) and fires UpdateShaderEvent only on frames that reuse a cached
+ * shader. This class attaches a private vtkOpenGLRenderPass to the volume's
+ * vtkOpenGLRenderPass::RenderPasses() key around each draw: the ray caster then calls it when
+ * it builds the shader (to edit the template) and on every draw, including the first one (to
+ * set uniforms). Subclasses implement:
+ *   - PrepareExtension(): per frame, on the CPU: validate input, build tables, upload textures;
+ *     decide whether to draw with the extension, with VTK's stock shader, or not at all;
+ *   - ActivateExtensionTextures() / DeactivateExtensionTextures(): bind their textures around
+ *     the superclass draw;
+ *   - ReplaceExtensionShaderValues(): edit the shader template (tags still present);
+ *   - SetExtensionShaderParameters(): uniforms and sampler units, every draw.
+ * A subclass calls ExtensionShaderModified() when its GLSL must change; the hook reports that
+ * time so the ray caster rebuilds the program.
+ *
+ * Automatic sample distance adjustment is off by default: hovr methods tabulate integrals for
+ * the sample distance, and measuring accuracy needs a fixed step.
+ */
+#ifndef vtkExtensibleGPUVolumeRayCastMapper_h
+#define vtkExtensibleGPUVolumeRayCastMapper_h
+
+#include "hovrRenderingOpenGLModule.h" // For export macro
+#include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "vtkTimeStamp.h" // For ivar
+
+#include <string> // For std::string
+
+class vtkGPURayCastShaderHook;
+class vtkShaderProgram;
+
+class HOVRRENDERINGOPENGL_EXPORT vtkExtensibleGPUVolumeRayCastMapper
+  : public vtkOpenGLGPUVolumeRayCastMapper
+{
+public:
+  vtkTypeMacro(vtkExtensibleGPUVolumeRayCastMapper, vtkOpenGLGPUVolumeRayCastMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  /**
+   * Number of frames drawn with the extension's shader so far.
+   */
+  vtkGetMacro(ExtensionFrameCount, int);
+
+  /**
+   * Replace one //VTK:: tag of a shader source, keeping the tag after the replacement when
+   * keepTag is true (so that VTK still substitutes it). Returns false when the tag is absent.
+   */
+  static bool ReplaceShaderTag(
+    std::string& source, const std::string& tag, const std::string& code, bool keepTag);
+
+protected:
+  vtkExtensibleGPUVolumeRayCastMapper();
+  ~vtkExtensibleGPUVolumeRayCastMapper() override;
+
+  /**
+   * What PrepareExtension() asks for this frame.
+   */
+  enum FramePlan
+  {
+    DrawWithExtension = 0, ///< hook attached, own GLSL
+    DrawStock,             ///< plain vtkOpenGLGPUVolumeRayCastMapper
+    DrawNothing            ///< an error was reported; the volume is not drawn
+  };
+
+  virtual FramePlan PrepareExtension(vtkRenderer* ren, vtkVolume* vol) = 0;
+  virtual void ActivateExtensionTextures() {}
+  virtual void DeactivateExtensionTextures() {}
+  virtual bool ReplaceExtensionShaderValues(std::string& vertexShader, std::string& fragmentShader,
+    vtkVolume* vol) = 0;
+  virtual void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume* vol) = 0;
+  virtual void ReleaseExtensionResources(vtkWindow* window) { (void)window; }
+
+  /**
+   * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
+   */
+  void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
+
+  void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  vtkTimeStamp ExtensionShaderTime;
+  int ExtensionFrameCount = 0;
+
+private:
+  vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;
+  void operator=(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;
+
+  friend class vtkGPURayCastShaderHook;
+  vtkGPURayCastShaderHook* Hook;
+};
+
+#endif

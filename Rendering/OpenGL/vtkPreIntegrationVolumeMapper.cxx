@@ -1,0 +1,295 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkPreIntegrationVolumeMapper.h"
+
+#include "vtkDataArray.h"
+#include "vtkFirstOrderPreIntegrationTable.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+#include "vtk_glew.h"
+
+#include "hovrPreIntegration1.h" // the GLSL of first-order pre-integration
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
+  : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
+  , TableTexture(vtkTextureObject::New())
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
+{
+  this->FirstOrderTable->Delete();
+  this->TableTexture->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
+{
+  mode = std::min(std::max(mode, static_cast<int>(STOCK)), static_cast<int>(FIRST_ORDER));
+  if (mode != this->Integration)
+  {
+    this->Integration = mode;
+    this->ExtensionShaderModified();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
+  vtkDataArray* scalars, double& scale, double& shift)
+{
+  // vtkVolumeTexture uploads 8- and 16-bit integers as normalised textures (signed ones with
+  // SNORM, clamped at -1) and floats as they are; wider types become floats rescaled so that
+  // the finite range maps to [0, 1].
+  shift = 0.0;
+  switch (scalars->GetDataType())
+  {
+    case VTK_UNSIGNED_CHAR:
+      scale = 255.0;
+      break;
+    case VTK_SIGNED_CHAR:
+    case VTK_CHAR:
+      scale = 127.0;
+      break;
+    case VTK_UNSIGNED_SHORT:
+      scale = 65535.0;
+      break;
+    case VTK_SHORT:
+      scale = 32767.0;
+      break;
+    case VTK_FLOAT:
+      scale = 1.0;
+      break;
+    default:
+    {
+      double range[2];
+      scalars->GetFiniteRange(range, 0);
+      // The range is rounded to float before VTK computes its scale.
+      const double lo = static_cast<float>(range[0]);
+      const double hi = static_cast<float>(range[1]);
+      scale = hi > lo ? hi - lo : 1.0;
+      shift = lo;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(
+  vtkVolume* vol, vtkDataArray* scalars)
+{
+  vtkVolumeProperty* property = vol->GetProperty();
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return "pre-integration applies to composite blending only";
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    return "pre-integration needs single-component scalars";
+  }
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
+  {
+    return "pre-integration does not support 2D transfer functions";
+  }
+  if (property->GetShade(0))
+  {
+    return "first-order pre-integration does not shade";
+  }
+  if (property->HasGradientOpacity(0))
+  {
+    return "pre-integration does not support gradient opacity";
+  }
+  return nullptr;
+}
+
+//------------------------------------------------------------------------------
+vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::PrepareExtension(
+  vtkRenderer* ren, vtkVolume* vol)
+{
+  if (this->Integration == STOCK)
+  {
+    return DrawStock;
+  }
+  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  {
+    vtkErrorMacro("The sample distance must be positive and finite, got " << this->SampleDistance
+                                                                          << "; not drawing.");
+    return DrawNothing;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int cellFlag = 0;
+  vtkDataArray* scalars = input ? vtkAbstractMapper::GetScalars(input, this->ScalarMode,
+                                    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+                                : nullptr;
+  if (!input || !scalars)
+  {
+    return DrawStock; // VTK reports the missing input or scalars itself.
+  }
+  int dims[3];
+  input->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
+      << dims[0] << " x " << dims[1] << " x " << dims[2] << "; not drawing.");
+    return DrawNothing;
+  }
+  if (const char* reason = this->GetStockFallbackReason(vol, scalars))
+  {
+    if (this->LastWarning != reason)
+    {
+      vtkWarningMacro(<< reason << "; drawing with VTK's stock compositing.");
+      this->LastWarning = reason;
+    }
+    return DrawStock;
+  }
+  this->LastWarning.clear();
+
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  if (!(range[1] > range[0]))
+  {
+    range[1] = range[0] + 1.0; // flat data: any non-empty range holds its one value
+  }
+  vtkFirstOrderPreIntegrationTable* table = this->FirstOrderTable;
+  table->SetVolumeProperty(vol->GetProperty());
+  table->SetSegmentLength(this->SampleDistance);
+  table->SetScalarRange(range);
+  if (!table->GetSampler()->Prepare())
+  {
+    vtkErrorMacro("The transfer functions cannot be pre-integrated; not drawing.");
+    return DrawNothing;
+  }
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  const int maxSize = vtkTextureObject::GetMaximumTextureSize(context);
+  int size = this->TableSize > 0
+    ? this->TableSize
+    : vtkPreIntegrationTable::SuggestTableSize(
+        scalars->GetDataType(), range, table->GetSampler(), 64, 1024);
+  if (maxSize > 0 && size > maxSize)
+  {
+    vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize
+                                  << "; using " << maxSize << ".");
+    size = maxSize;
+  }
+  table->SetTableSize(size);
+  if (!table->Update() || !this->UploadTable(ren))
+  {
+    vtkErrorMacro("The pre-integration table could not be built; not drawing.");
+    return DrawNothing;
+  }
+
+  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
+  double scale, shift;
+  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(scalars, scale, shift);
+  const double toIndex = (size - 1.0) / (range[1] - range[0]);
+  this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
+  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
+  return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
+{
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  vtkFirstOrderPreIntegrationTable* table = this->FirstOrderTable;
+  if (this->TableTexture->GetContext() == context &&
+    this->UploadedBuildCount == table->GetBuildCount() &&
+    this->UploadedHalfFloat == this->HalfFloatTable && this->TableTexture->GetHandle() != 0)
+  {
+    return true;
+  }
+  const int n = table->GetTableSize();
+  this->TableTexture->SetContext(context);
+  this->TableTexture->SetInternalFormat(this->HalfFloatTable ? GL_RGBA16F : GL_RGBA32F);
+  this->TableTexture->SetFormat(GL_RGBA);
+  this->TableTexture->SetDataType(GL_FLOAT);
+  if (!this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, table->GetTable()->GetVoidPointer(0)))
+  {
+    vtkErrorMacro("Could not create the " << n << " x " << n << " table texture.");
+    return false;
+  }
+  this->TableTexture->SetWrapS(vtkTextureObject::ClampToEdge);
+  this->TableTexture->SetWrapT(vtkTextureObject::ClampToEdge);
+  this->TableTexture->SetMinificationFilter(vtkTextureObject::Linear);
+  this->TableTexture->SetMagnificationFilter(vtkTextureObject::Linear);
+  this->UploadedBuildCount = table->GetBuildCount();
+  this->UploadedHalfFloat = this->HalfFloatTable;
+  this->TableTextureMemorySize = static_cast<vtkIdType>(n) * n * 4 * (this->HalfFloatTable ? 2 : 4);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
+{
+  this->TableTexture->Activate();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
+{
+  this->TableTexture->Deactivate();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(
+  std::string&, std::string& fragmentShader, vtkVolume*)
+{
+  using Self = vtkExtensibleGPUVolumeRayCastMapper;
+  // The early-termination threshold becomes a uniform (VTK declares a constant here).
+  bool ok = Self::ReplaceShaderTag(fragmentShader, "//VTK::Termination::Dec",
+    "uniform float hovr_opacityThreshold;\n#define g_opacityThreshold hovr_opacityThreshold",
+    false);
+  // Declared late, after every uniform and global the functions use.
+  ok = ok &&
+    Self::ReplaceShaderTag(
+      fragmentShader, "//VTK::ComputeRayDirection::Dec", hovrPreIntegration1, true);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
+  if (!ok)
+  {
+    vtkErrorMacro("The ray caster's shader template lacks a tag that pre-integration replaces.");
+  }
+  return ok;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(
+  vtkShaderProgram* program, vtkVolume*)
+{
+  program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
+  program->SetUniform2f("hovr_rawToTable", this->RawToTable);
+  program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
+{
+  this->TableTexture->ReleaseGraphicsResources(window);
+  this->UploadedBuildCount = -1;
+  this->TableTextureMemorySize = 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Integration: " << this->Integration << "\n";
+  os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "HalfFloatTable: " << this->HalfFloatTable << "\n";
+  os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
+}
