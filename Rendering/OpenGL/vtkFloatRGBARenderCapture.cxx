@@ -2,77 +2,114 @@
 #include "vtkFloatRGBARenderCapture.h"
 
 #include "vtkFloatArray.h"
-#include "vtkFramebufferPass.h"
 #include "vtkImageData.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLRenderWindow.h"
-#include "vtkPixelBufferObject.h"
+#include "vtkOpenGLState.h"
 #include "vtkPointData.h"
-#include "vtkRenderStepsPass.h"
-#include "vtkRenderer.h"
 #include "vtkTextureObject.h"
+#include "vtk_glew.h"
 
 vtkStandardNewMacro(vtkFloatRGBARenderCapture);
 
-//------------------------------------------------------------------------------
-vtkFloatRGBARenderCapture::vtkFloatRGBARenderCapture()
-  : Pass(vtkFramebufferPass::New())
+namespace
 {
-  vtkNew<vtkRenderStepsPass> steps;
-  this->Pass->SetDelegatePass(steps);
-  this->Pass->SetColorFormat(vtkTextureObject::Float32);
+bool HasFloatColor(vtkOpenGLFramebufferObject* fbo)
+{
+  vtkTextureObject* color = fbo ? fbo->GetColorAttachmentAsTextureObject(0) : nullptr;
+  return color && color->GetVTKDataType() == VTK_FLOAT;
+}
 }
 
 //------------------------------------------------------------------------------
-vtkFloatRGBARenderCapture::~vtkFloatRGBARenderCapture()
-{
-  this->Pass->Delete();
-}
+vtkFloatRGBARenderCapture::vtkFloatRGBARenderCapture() = default;
 
 //------------------------------------------------------------------------------
-void vtkFloatRGBARenderCapture::Attach(vtkRenderer* renderer)
+vtkFloatRGBARenderCapture::~vtkFloatRGBARenderCapture() = default;
+
+//------------------------------------------------------------------------------
+bool vtkFloatRGBARenderCapture::Attach(vtkRenderWindow* window)
 {
-  this->Renderer = renderer;
-  if (renderer)
+  this->Window = nullptr;
+  auto* glWindow = vtkOpenGLRenderWindow::SafeDownCast(window);
+  if (!glWindow)
   {
-    renderer->SetPass(this->Pass);
+    vtkErrorMacro("A float colour buffer needs an OpenGL render window.");
+    return false;
   }
+  if (glWindow->GetMultiSamples() > 0)
+  {
+    vtkErrorMacro("The render window multisamples (" << glWindow->GetMultiSamples()
+                                                     << " samples); call SetMultiSamples(0).");
+    return false;
+  }
+  vtkOpenGLFramebufferObject* fbo = glWindow->GetRenderFramebuffer();
+  if (!fbo || fbo->GetFBOIndex() == 0)
+  {
+    glWindow->Render(); // framebuffers are created on the first render
+    fbo = glWindow->GetRenderFramebuffer();
+  }
+  if (!fbo || !fbo->GetColorAttachmentAsTextureObject(0))
+  {
+    vtkErrorMacro("The render window has no offscreen colour texture to replace.");
+    return false;
+  }
+  if (!HasFloatColor(fbo))
+  {
+    glWindow->MakeCurrent();
+    const int* size = fbo->GetLastSize();
+    vtkNew<vtkTextureObject> color;
+    color->SetContext(glWindow);
+    color->SetInternalFormat(GL_RGBA32F);
+    color->SetFormat(GL_RGBA);
+    color->SetDataType(GL_FLOAT);
+    color->SetMinificationFilter(vtkTextureObject::Nearest);
+    color->SetMagnificationFilter(vtkTextureObject::Nearest);
+    color->Allocate2D(size[0], size[1], 4, VTK_FLOAT);
+    vtkOpenGLState* state = glWindow->GetState();
+    state->PushFramebufferBindings();
+    fbo->Bind();
+    fbo->AddColorAttachment(0, color);
+    fbo->ActivateDrawBuffer(0);
+    const bool complete = fbo->CheckFrameBufferStatus(GL_FRAMEBUFFER) != 0;
+    state->PopFramebufferBindings();
+    if (!complete)
+    {
+      vtkErrorMacro("The float colour buffer is not supported by this OpenGL implementation.");
+      return false;
+    }
+  }
+  this->Window = window;
+  return true;
 }
 
 //------------------------------------------------------------------------------
 bool vtkFloatRGBARenderCapture::Capture(vtkImageData* image)
 {
-  vtkTextureObject* color = this->Pass->GetColorTexture();
-  if (!this->Renderer || !color || color->GetHandle() == 0 || !image)
+  auto* glWindow = vtkOpenGLRenderWindow::SafeDownCast(this->Window);
+  vtkOpenGLFramebufferObject* fbo = glWindow ? glWindow->GetRenderFramebuffer() : nullptr;
+  if (!image || !HasFloatColor(fbo))
   {
-    vtkErrorMacro("Nothing was rendered through the float framebuffer yet.");
+    vtkErrorMacro("No float colour buffer: call Attach() after creating or resizing the window.");
     return false;
   }
-  if (vtkRenderWindow* window = this->Renderer->GetRenderWindow())
-  {
-    window->MakeCurrent();
-  }
-  const unsigned int w = color->GetWidth();
-  const unsigned int h = color->GetHeight();
-  vtkPixelBufferObject* pbo = color->Download();
+  glWindow->MakeCurrent();
+  const int* size = fbo->GetLastSize();
   vtkNew<vtkFloatArray> rgba;
   rgba->SetName("RGBA");
   rgba->SetNumberOfComponents(4);
-  rgba->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
-  unsigned int dims[2] = { w, h };
-  vtkIdType increments[2] = { 0, 0 };
-  const bool ok = pbo && pbo->Download2D(VTK_FLOAT, rgba->GetPointer(0), dims, 4, increments);
-  if (pbo)
-  {
-    pbo->Delete();
-  }
-  if (!ok)
-  {
-    vtkErrorMacro("Could not download the float colour buffer.");
-    return false;
-  }
+  rgba->SetNumberOfTuples(static_cast<vtkIdType>(size[0]) * size[1]);
+  vtkOpenGLState* state = glWindow->GetState();
+  state->PushReadFramebufferBinding();
+  fbo->Bind(GL_READ_FRAMEBUFFER);
+  fbo->ActivateReadBuffer(0);
+  state->vtkglPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, size[0], size[1], GL_RGBA, GL_FLOAT, rgba->GetPointer(0));
+  state->PopReadFramebufferBinding();
   image->Initialize();
-  image->SetExtent(0, static_cast<int>(w) - 1, 0, static_cast<int>(h) - 1, 0, 0);
+  image->SetExtent(0, size[0] - 1, 0, size[1] - 1, 0, 0);
   image->GetPointData()->SetScalars(rgba);
   return true;
 }
@@ -81,5 +118,5 @@ bool vtkFloatRGBARenderCapture::Capture(vtkImageData* image)
 void vtkFloatRGBARenderCapture::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Renderer: " << this->Renderer << "\n";
+  os << indent << "Window: " << this->Window << "\n";
 }

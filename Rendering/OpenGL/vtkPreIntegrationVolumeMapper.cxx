@@ -252,13 +252,13 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(
   bool ok = Self::ReplaceShaderTag(fragmentShader, "//VTK::Termination::Dec",
     "uniform float hovr_opacityThreshold;\n#define g_opacityThreshold hovr_opacityThreshold",
     false);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
   // Declared late, after every uniform and global the functions use.
   ok = ok &&
     Self::ReplaceShaderTag(
       fragmentShader, "//VTK::ComputeRayDirection::Dec", hovrPreIntegration1, true);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
   if (!ok)
   {
     vtkErrorMacro("The ray caster's shader template lacks a tag that pre-integration replaces.");

@@ -6,8 +6,8 @@
 // so that no slab at the faces is lost or counted twice.
 //
 // Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
-// vtkPreIntegrationVolumeMapper: hovr_preintInit/Step/Exit replace //VTK::Shading::Init,
-// ::Impl and ::Exit.
+// vtkPreIntegrationVolumeMapper, which calls hovr_preintInit, hovr_preintStep and
+// hovr_preintExit where VTK's shading code would initialise, sample and finish a ray.
 
 uniform sampler2D hovr_preintTable;
 // Table texture coordinate of a raw texture value: raw * x + y.
