@@ -90,8 +90,8 @@ int vtkPreIntegrationTable::SuggestTableSize(int scalarType, const double range[
   if (integer)
   {
     // Put entries on every integer value (lookups at voxel values are exact), subdivided
-    // until the narrowest feature gets its entries and the minimum size is reached.
-    double m = std::max(1.0, std::ceil(entriesPerFeature / feature));
+    // when a feature is narrower than one unit or the table would be below the minimum size.
+    double m = std::max(1.0, std::ceil(1.0 / feature));
     while (width * m + 1.0 < minimumSize)
     {
       m += 1.0;

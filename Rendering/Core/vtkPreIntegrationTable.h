@@ -93,10 +93,12 @@ public:
   ///@}
 
   /**
-   * A table size matched to the data and the transfer function: one entry per integer value
-   * for integer data with at most MaximumSize values, otherwise enough entries to put
-   * EntriesPerFeature entries across the narrowest transfer-function feature (clamped to
-   * [MinimumSize, MaximumSize]). The sampler must be prepared.
+   * A table size matched to the data and the transfer function. Integer data: one entry per
+   * integer value of the range (lookups at voxel values are then exact), subdivided when a
+   * transfer-function feature is narrower than one unit or to reach MinimumSize. Float data,
+   * or integer data whose range needs more than MaximumSize entries: EntriesPerFeature
+   * entries across the narrowest feature. Clamped to [MinimumSize, MaximumSize]. The sampler
+   * must be prepared.
    */
   static int SuggestTableSize(int scalarType, const double range[2],
     vtkVolumeTransferFunctionSampler* sampler, int minimumSize, int maximumSize,
