@@ -2,6 +2,8 @@
 #include "vtkCameraRayModel.h"
 
 #include "vtkCamera.h"
+#include "vtkGridRayTraversal.h"
+#include "vtkImageData.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 
@@ -109,6 +111,34 @@ void vtkCameraRayModel::GetPixelRay(int i, int j, double origin[3], double direc
   const double x = 2.0 * (i + 0.5) / this->ImageSize[0] - 1.0;
   const double y = 2.0 * (j + 0.5) / this->ImageSize[1] - 1.0;
   this->GetRay(x, y, origin, direction);
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkCameraRayModel::CountFixedStepSamples(vtkImageData* volume, double step) const
+{
+  if (!volume || !(step > 0.0))
+  {
+    return -1;
+  }
+  double bounds[6];
+  volume->GetBounds(bounds);
+  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
+  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
+  vtkIdType count = 0;
+  for (int j = 0; j < this->ImageSize[1]; ++j)
+  {
+    for (int i = 0; i < this->ImageSize[0]; ++i)
+    {
+      double origin[3], direction[3];
+      this->GetPixelRay(i, j, origin, direction);
+      double t0 = 0.0, t1 = VTK_DOUBLE_MAX;
+      if (vtkGridRayTraversal::ClipToBox(lo, hi, origin, direction, t0, t1))
+      {
+        count += static_cast<vtkIdType>(std::floor((t1 - t0) / step));
+      }
+    }
+  }
+  return count;
 }
 
 //------------------------------------------------------------------------------

@@ -21,6 +21,7 @@
 #include "vtkObject.h"
 
 class vtkCamera;
+class vtkImageData;
 
 class HOVRRENDERINGCORE_EXPORT vtkCameraRayModel : public vtkObject
 {
@@ -61,6 +62,14 @@ public:
    * Ray through image coordinates (x, y) in [-1, 1]^2 (the pixel centre formula above).
    */
   void GetRay(double x, double y, double origin[3], double direction[3]) const;
+
+  /**
+   * Samples a fixed-step ray caster takes over the whole image: for each pixel ray, the
+   * number of steps of length step that fit into its chord through the box of the volume's
+   * points (no early termination). Requires Prepare(); returns -1 for a step that is not
+   * positive.
+   */
+  vtkIdType CountFixedStepSamples(vtkImageData* volume, double step) const;
 
   vtkMTimeType GetMTime() override;
 

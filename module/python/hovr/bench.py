@@ -1,1 +1,227 @@
-"""placeholder"""
+"""``hovr bench``: sweep datasets x methods x steps and measure the speed/accuracy trade.
+
+A bench configuration is a JSON object::
+
+    {
+      "size": [512, 512],            # image size
+      "repeat": 5,                   # timed frames per run (after one warm-up frame)
+      "methods": ["stock", "preint1"],
+      "steps": [0.5, 1, 2, 4],       # in units of the smallest voxel spacing
+      "datasets": [
+        {"name": "ml41", "input": "marschner-lobb:41",
+         "tf": "../transfer-functions/marschner-lobb-spikes.json",
+         "opacity_unit_distance": 0.05,
+         "camera": "optional camera JSON; default: an oblique view of the whole volume"},
+        {"name": "neghip", "input": "${HOVR_DATA}/neghip_64x64x64_uint8.raw",
+         "dims": [64, 64, 64], "type": "uint8", "spacing": [1, 1, 1],
+         "tf": "...", "optional": true}
+      ]
+    }
+
+Paths are relative to the configuration file; ``${HOVR_DATA}`` is the shared test-data folder
+(environment variable HOVR_DATA, by default ../shared/data beside the project) and
+``${HOVR_ROOT}`` the project. A dataset marked optional whose input is missing is skipped with
+a message. Per-dataset entries may override "methods" and "steps".
+
+Every image is compared with the reference integrator's (cached under ``cache/``). Written
+to the output folder: ``results.csv`` (one row per dataset, method and step), ``images/``
+(renderings and 10x difference images), ``tradeoff.png`` (error against time per frame) and
+``summary.txt``.
+"""
+
+import csv
+import hashlib
+import json
+import os
+
+from . import io as hio
+from . import methods as hm
+from .io import HovrError
+
+CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
+              "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
+              "ms_ratio_to_stock", "rmse_ratio_to_stock", "table_size", "table_build_ms",
+              "table_gpu_bytes"]
+
+def _project_root():
+    root = os.environ.get("HOVR_ROOT")
+    if root:
+        return root
+    # Installed or build-tree package: the project root is not known; fall back to the cwd.
+    return os.getcwd()
+
+
+def data_folder():
+    """Where the shared test volumes live (HOVR_DATA, else ../shared/data beside the project)."""
+    return os.environ.get("HOVR_DATA") or os.path.join(_project_root(), os.pardir, "shared",
+                                                       "data")
+
+
+def _expand(value, base):
+    value = value.replace("${HOVR_DATA}", data_folder()).replace("${HOVR_ROOT}", _project_root())
+    return value if os.path.isabs(value) else os.path.normpath(os.path.join(base, value))
+
+
+def load_volume(spec, base=None):
+    """A volume from a dataset entry or an --input string: a path or ``marschner-lobb[:N]``."""
+    source = spec["input"]
+    if source.startswith("marschner-lobb"):
+        from . import hovrFiltersSources as sources
+        size = int(source.split(":")[1]) if ":" in source else 41
+        if size < 2:
+            raise HovrError("marschner-lobb needs at least 2 points per axis")
+        generator = sources.vtkMarschnerLobbSource()
+        generator.SetDimensions(size, size, size)
+        generator.Update()
+        return generator.GetOutput()
+    path = _expand(source, base) if base else source
+    return hio.read_volume(path, spec.get("dims"), spec.get("type"), spec.get("spacing"))
+
+
+def load_config(path):
+    try:
+        with open(path, "r", encoding="utf-8") as stream:
+            config = json.load(stream)
+    except (OSError, ValueError) as error:
+        raise HovrError("cannot read bench configuration %s: %s" % (path, error)) from None
+    if not isinstance(config, dict) or not isinstance(config.get("datasets"), list):
+        raise HovrError("%s: a bench configuration is an object with a 'datasets' list" % path)
+    for name in config.get("methods", []):
+        hm.get_method(name)
+    for step in config.get("steps", []):
+        if not (isinstance(step, (int, float)) and step > 0):
+            raise HovrError("%s: steps must be positive numbers, got %r" % (path, step))
+    return config
+
+
+def _reference_key(spec, image, prop_desc, camera, size):
+    digest = hashlib.sha256()
+    scalars = image.GetPointData().GetScalars()
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    digest.update(vtk_to_numpy(scalars).tobytes())
+    digest.update(json.dumps([image.GetDimensions(), image.GetSpacing(), image.GetOrigin(),
+                              prop_desc, hio.camera_to_dict(camera), size],
+                             sort_keys=True).encode())
+    return digest.hexdigest()[:20]
+
+
+def _scene_for(spec, base, size):
+    image = load_volume(spec, base)
+    warnings = hio.check_volume(image)
+    tf_path = _expand(spec["tf"], base)
+    color, opacity, _ = hio.read_transfer_function(tf_path)
+    unit = float(spec.get("opacity_unit_distance", 1.0))
+    prop = hio.make_volume_property(color, opacity, unit)
+    if spec.get("camera"):
+        camera = hio.read_camera(_expand(spec["camera"], base))
+    else:
+        camera = hio.default_camera(image.GetBounds())
+    with open(tf_path, "rb") as stream:
+        prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit]
+    return hm.Scene(image, prop, camera, size), warnings, prop_desc
+
+
+def run(config_path, output, log=print, renderer=None):
+    """Run a bench; returns the list of result rows."""
+    config = load_config(config_path)
+    base = os.path.dirname(os.path.abspath(config_path))
+    size = tuple(config.get("size", (512, 512)))
+    repeat = int(config.get("repeat", 5))
+    os.makedirs(os.path.join(output, "images"), exist_ok=True)
+    os.makedirs(os.path.join(output, "cache"), exist_ok=True)
+    own_renderer = renderer is None
+    renderer = renderer or hm.Renderer()
+    rows = []
+    skipped = []
+    try:
+        for spec in config["datasets"]:
+            name = spec.get("name") or os.path.basename(spec["input"])
+            try:
+                scene, warnings, prop_desc = _scene_for(spec, base, size)
+            except HovrError as error:
+                if spec.get("optional") and "not found" in str(error):
+                    log("skipping %s: %s" % (name, error))
+                    skipped.append(name)
+                    continue
+                raise
+            for warning in warnings:
+                log("%s: warning: %s" % (name, warning))
+            reference = _reference(renderer, scene, name, output,
+                                   _reference_key(spec, scene.image, prop_desc, scene.camera,
+                                                  size), log)
+            hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
+            dataset_rows = []
+            for method in spec.get("methods", config.get("methods", ["stock", "preint1"])):
+                steps = spec.get("steps", config.get("steps", [1]))
+                for step in (steps if method != "reference" else [min(steps)]):
+                    result = renderer.render(method, scene, step, repeat)
+                    errors, difference = hm.compare(result.image, reference)
+                    row = result.summary(method, step)
+                    row.update(errors)
+                    row["dataset"] = name
+                    dataset_rows.append(row)
+                    stem = "%s_%s_step%g" % (name, method, step)
+                    hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
+                    hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
+                                    array="Difference", scale=10.0)
+                    log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f" % (
+                        name, method, step, row["median_ms"], row["rmse"], row["max_error"]))
+            _add_ratios(dataset_rows)
+            rows.extend(dataset_rows)
+    finally:
+        if own_renderer:
+            renderer.close()
+    write_csv(rows, os.path.join(output, "results.csv"))
+    from . import plot
+    plot.tradeoff(rows, os.path.join(output, "tradeoff.png"))
+    summary = format_summary(rows, skipped)
+    with open(os.path.join(output, "summary.txt"), "w", encoding="utf-8") as stream:
+        stream.write(summary)
+    return rows, summary
+
+
+def _reference(renderer, scene, name, output, key, log):
+    path = os.path.join(output, "cache", "reference_%s_%s.vti" % (name, key))
+    if os.path.isfile(path):
+        return hio.read_vti(path)
+    log("%-10s computing the reference %dx%d ..." % (name, scene.size[0], scene.size[1]))
+    result = renderer.render("reference", scene, 1.0, 0)
+    hio.write_vti(result.image, path)
+    return result.image
+
+
+def _add_ratios(rows):
+    stock = {row["step"]: row for row in rows if row["method"] == "stock"}
+    for row in rows:
+        base = stock.get(row["step"])
+        if base and base["median_ms"] > 0 and base["rmse"] > 0:
+            row["ms_ratio_to_stock"] = row["median_ms"] / base["median_ms"]
+            row["rmse_ratio_to_stock"] = row["rmse"] / base["rmse"]
+
+
+def write_csv(rows, path):
+    with open(path, "w", newline="", encoding="utf-8") as stream:
+        writer = csv.DictWriter(stream, fieldnames=CSV_FIELDS, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (_fmt(row[k]) if k in row else "") for k in CSV_FIELDS})
+
+
+def _fmt(value):
+    if isinstance(value, float):
+        return "%.6g" % value
+    return value
+
+
+def format_summary(rows, skipped=()):
+    lines = ["%-10s %-9s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",
+                                                   "RMSE", "max err", "ms/stock")]
+    for row in rows:
+        ratio = row.get("ms_ratio_to_stock")
+        lines.append("%-10s %-9s %6g %10.2f %10.5f %10.4f %9s" % (
+            row["dataset"], row["method"], row["step"], row["median_ms"], row["rmse"],
+            row["max_error"], "%.2f" % ratio if ratio is not None else "-"))
+    for name in skipped:
+        lines.append("%-10s skipped (data not found)" % name)
+    return "\n".join(lines) + "\n"
+

@@ -1,1 +1,165 @@
-"""placeholder"""
+"""The ``hovr`` command line: ``render``, ``bench`` and ``demo``.
+
+Run through the ``./hovr`` script of the project (which builds, sets PYTHONPATH and provides
+a display), or as ``python3 -m hovr.cli`` with the package importable.
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+
+from .io import HovrError
+
+
+def _positive(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("%r is not a number" % text) from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError("must be a positive number, got %s" % text)
+    return value
+
+
+def _size(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("%r is not an integer" % text) from None
+    if value < 1 or value > 16384:
+        raise argparse.ArgumentTypeError("must lie in [1, 16384], got %s" % text)
+    return value
+
+
+def _count(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("%r is not an integer" % text) from None
+    if value < 0:
+        raise argparse.ArgumentTypeError("must not be negative, got %s" % text)
+    return value
+
+
+def build_parser():
+    from .io import RAW_TYPES
+    from .methods import METHODS
+    parser = argparse.ArgumentParser(prog="hovr", description=(
+        "Higher-order volume rendering for VTK: render with a method, measure its error "
+        "against the reference integrator and its cost."))
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    render = commands.add_parser("render", help="render one image", description=(
+        "Render a volume with one method. Output: .vti (float RGBA, premultiplied, pixel (i, j) "
+        "from left and bottom) or .png (composited over black, for looking)."))
+    render.add_argument("--input", required=True, help=(
+        "volume: .vti, .mhd, .nii, .nii.gz, .slc, legacy .vtk structured points, raw (with "
+        "--dims and --type), or marschner-lobb[:N] for the generated test volume"))
+    render.add_argument("--dims", nargs=3, type=_size, metavar=("X", "Y", "Z"),
+                        help="raw input: points along x, y, z (x fastest)")
+    render.add_argument("--type", choices=sorted(RAW_TYPES), help="raw input: scalar type "
+                        "(little-endian)")
+    render.add_argument("--spacing", nargs=3, type=_positive, metavar=("X", "Y", "Z"),
+                        help="raw input: voxel spacing (default 1 1 1)")
+    render.add_argument("--tf", required=True, help="ParaView transfer-function preset JSON "
+                        "with RGBPoints and Points")
+    render.add_argument("--opacity-unit-distance", type=_positive, default=1.0, metavar="U",
+                        help="distance in world units over which the opacities hold "
+                        "(default 1)")
+    render.add_argument("--camera", help="camera JSON {position, focal_point, view_up, "
+                        "parallel_projection, parallel_scale, view_angle}; default: an oblique "
+                        "view of the whole volume")
+    render.add_argument("--size", nargs=2, type=_size, default=[512, 512], metavar=("W", "H"),
+                        help="image size (default 512 512)")
+    render.add_argument("--method", default="preint1", choices=sorted(METHODS),
+                        help="rendering method (default preint1): " + "; ".join(
+                            "%s = %s" % (m.name, m.description) for m in METHODS.values()))
+    render.add_argument("--step", type=_positive, default=1.0, help="sampling step in units "
+                        "of the smallest voxel spacing (default 1)")
+    render.add_argument("--output", help="output image, .vti or .png")
+    render.add_argument("--repeat", type=_count, default=0, metavar="N", help="after one "
+                        "warm-up frame render N timed frames and print one JSON line")
+    render.add_argument("--reference", metavar="REF.vti", help="also print the error "
+                        "against this reference image")
+
+    bench = commands.add_parser("bench", help="sweep datasets x methods x steps", description=(
+        "Run a bench configuration (JSON): CSV, images, difference images and a plot of "
+        "error against time per frame in the output folder."))
+    bench.add_argument("config", help="bench configuration JSON (see presets/bench)")
+    bench.add_argument("--output", default="bench-report", help="output folder "
+                       "(default bench-report)")
+
+    demo = commands.add_parser("demo", help="run the default bench and print a summary")
+    demo.add_argument("--output", default="report", help="output folder (default report)")
+    demo.add_argument("--config", help="bench configuration (default presets/bench/demo.json)")
+    return parser
+
+
+def cmd_render(args):
+    from . import bench as hb
+    from . import io as hio
+    from . import methods as hm
+    if args.output and not args.output.lower().endswith((".vti", ".png")):
+        raise HovrError("--output must end in .vti or .png: %s" % args.output)
+    spec = {"input": args.input, "dims": args.dims, "type": args.type, "spacing": args.spacing}
+    image = hb.load_volume(spec)
+    for warning in hio.check_volume(image):
+        print("hovr render: warning: " + warning, file=sys.stderr)
+    color, opacity, _ = hio.read_transfer_function(args.tf)
+    prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
+    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
+        image.GetBounds())
+    scene = hm.Scene(image, prop, camera, args.size)
+    renderer = hm.Renderer()
+    try:
+        result = renderer.render(args.method, scene, args.step, args.repeat)
+    finally:
+        renderer.close()
+    if args.output:
+        hio.write_image(result.image, args.output)
+    line = result.summary(args.method, args.step) if args.repeat > 0 else None
+    if args.reference:
+        errors, _ = hm.compare(result.image, hio.read_vti(args.reference))
+        line = line or {"method": args.method, "step": args.step}
+        line.update(errors)
+    if line is not None:
+        print(json.dumps(line))
+    return 0
+
+
+def cmd_bench(args):
+    from . import bench as hb
+    rows, summary = hb.run(args.config, args.output,
+                           log=lambda message: print(message, file=sys.stderr))
+    sys.stdout.write(summary)
+    return 0 if rows else 1
+
+
+def cmd_demo(args):
+    from . import bench as hb
+    config = args.config or os.path.join(hb._project_root(), "presets", "bench", "demo.json")
+    if not os.path.isfile(config):
+        raise HovrError("demo configuration not found: %s" % config)
+    rows, summary = hb.run(config, args.output,
+                           log=lambda message: print(message, file=sys.stderr))
+    print("hovr demo: %d runs; report in %s (results.csv, tradeoff.png, images/)"
+          % (len(rows), os.path.abspath(args.output)))
+    sys.stdout.write(summary)
+    return 0 if rows else 1
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handlers = {"render": cmd_render, "bench": cmd_bench, "demo": cmd_demo}
+    try:
+        return handlers[args.command](args)
+    except HovrError as error:
+        print("hovr %s: error: %s" % (args.command, error), file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

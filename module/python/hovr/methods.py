@@ -1,1 +1,267 @@
-"""placeholder"""
+"""The rendering methods hovr measures, behind one interface.
+
+A method turns a :class:`Scene` (volume, transfer functions, camera, image size) and a step
+into a float RGBA image plus its cost. GPU methods share one offscreen window per
+:class:`Renderer` and draw into a float colour buffer (vtkFloatRGBARenderCapture), so their
+images are exact enough to measure errors of 1e-4; the CPU reference is
+vtkVolumeReferenceIntegrator. Adding a method means adding one entry to ``METHODS``.
+"""
+
+import statistics
+import time
+
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+# The OpenGL factories must be loaded for the window and mapper overrides.
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+from . import hovrRenderingCore as core
+from . import hovrRenderingOpenGL as gl
+from .io import HovrError
+
+
+class Scene:
+    """What is rendered: a checked volume, a volume property, a camera and an image size."""
+
+    def __init__(self, image, prop, camera, size):
+        self.image = image
+        self.prop = prop
+        self.camera = camera
+        self.size = (int(size[0]), int(size[1]))
+        if min(self.size) < 1:
+            raise HovrError("the image size must be at least 1x1, got %dx%d" % self.size)
+
+    def step_length(self, step):
+        """World length of a step given in units of the smallest voxel spacing."""
+        if not step > 0:
+            raise HovrError("the step must be positive, got %g" % step)
+        return step * min(abs(s) for s in self.image.GetSpacing())
+
+
+class RenderResult:
+    """A rendered image and what it cost."""
+
+    def __init__(self, image, times_ms, samples_per_frame=None, extra=None):
+        self.image = image
+        self.times_ms = list(times_ms)
+        self.samples_per_frame = samples_per_frame
+        self.extra = dict(extra or {})
+
+    def summary(self, method, step):
+        times = self.times_ms or [float("nan")]
+        line = {"method": method, "step": step,
+                "width": self.image.GetDimensions()[0], "height": self.image.GetDimensions()[1],
+                "median_ms": statistics.median(times), "min_ms": min(times),
+                "max_ms": max(times)}
+        if self.samples_per_frame is not None:
+            line["samples_per_frame"] = self.samples_per_frame
+        line.update(self.extra)
+        return line
+
+
+class _Errors:
+    """Turns VTK error events of some objects into a HovrError after a call."""
+
+    def __init__(self, *objects):
+        self.messages = []
+        self.tags = [(o, o.AddObserver(vtkCommand.ErrorEvent, self._on_error)) for o in objects]
+
+    def _on_error(self, obj, _event, message=None):
+        self.messages.append("%s: %s" % (obj.GetClassName(), str(message).strip().splitlines()[-1]
+                                         if message else "error"))
+
+    _on_error.CallDataType = "string0"
+
+    def close(self):
+        for obj, tag in self.tags:
+            obj.RemoveObserver(tag)
+        if self.messages:
+            raise HovrError("; ".join(self.messages))
+
+
+class Method:
+    """A rendering method: its name, what it is, and how it renders."""
+
+    kind = "gpu"
+    description = ""
+
+    def __init__(self, name, description):
+        self.name = name
+        self.description = description
+
+    def make_mapper(self):
+        raise NotImplementedError
+
+    def statistics(self, mapper):
+        return {}
+
+
+class StockMethod(Method):
+    def make_mapper(self):
+        mapper = vtkOpenGLGPUVolumeRayCastMapper()
+        mapper.SetAutoAdjustSampleDistances(0)
+        return mapper
+
+
+class PreIntegrationMethod(Method):
+    def __init__(self, name, description, integration):
+        super().__init__(name, description)
+        self.integration = integration
+
+    def make_mapper(self):
+        mapper = gl.vtkPreIntegrationVolumeMapper()
+        mapper.SetIntegration(self.integration)
+        return mapper
+
+    def statistics(self, mapper):
+        table = mapper.GetFirstOrderTable()
+        return {"table_size": table.GetTableSize(),
+                "table_build_ms": 1000.0 * table.GetLastBuildTime(),
+                "table_builds": table.GetBuildCount(),
+                "table_gpu_bytes": mapper.GetTableTextureMemorySize()}
+
+
+class ReferenceMethod(Method):
+    kind = "cpu"
+
+
+METHODS = {m.name: m for m in (
+    ReferenceMethod("reference", "CPU ground truth: exact cubic per cell, adaptive pieces "
+                                 "(vtkVolumeReferenceIntegrator)"),
+    StockMethod("stock", "VTK's vtkOpenGLGPUVolumeRayCastMapper, composite, unchanged"),
+    PreIntegrationMethod("preint1", "first-order pre-integration, 2D table "
+                                    "(vtkPreIntegrationVolumeMapper)",
+                         gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER),
+)}
+
+
+def get_method(name):
+    if name not in METHODS:
+        raise HovrError("unknown method %r (known: %s)" % (name, ", ".join(METHODS)))
+    return METHODS[name]
+
+
+class Renderer:
+    """Renders scenes with any method; GPU methods share one offscreen float window."""
+
+    def __init__(self):
+        self._window = None
+        self._renderer = None
+        self._capture = None
+        self._size = None
+
+    def _ensure_window(self, size):
+        if self._window is not None and self._size == size:
+            return
+        if self._window is None:
+            self._window = vtkRenderWindow()
+            self._window.SetOffScreenRendering(1)
+            self._window.SetMultiSamples(0)
+            self._window.SetAlphaBitPlanes(1)
+            self._renderer = vtkRenderer()
+            self._renderer.SetBackground(0.0, 0.0, 0.0)
+            self._renderer.SetBackgroundAlpha(0.0)
+            self._window.AddRenderer(self._renderer)
+            self._capture = gl.vtkFloatRGBARenderCapture()
+        self._window.SetSize(*size)
+        self._size = size
+        errors = _Errors(self._capture)
+        self._capture.Attach(self._window)
+        errors.close()
+
+    def render(self, method, scene, step, repeat=0):
+        """Render ``scene`` with ``method`` (a name or Method) at ``step`` (voxel units).
+
+        One warm-up frame (shader compilation, uploads, tables) is followed by ``repeat``
+        timed frames; the image is the last frame's.
+        """
+        method = get_method(method) if isinstance(method, str) else method
+        step_length = scene.step_length(step)
+        if method.kind == "cpu":
+            return self._render_reference(scene, repeat)
+        return self._render_gpu(method, scene, step_length, repeat)
+
+    def _render_reference(self, scene, repeat):
+        integrator = core.vtkVolumeReferenceIntegrator()
+        integrator.SetInputData(scene.image)
+        integrator.SetVolumeProperty(scene.prop)
+        integrator.SetCamera(scene.camera)
+        integrator.SetImageSize(*scene.size)
+        times = []
+        for _ in range(max(repeat, 0) + 1):
+            integrator.Modified()
+            errors = _Errors(integrator)
+            start = time.perf_counter()
+            integrator.Update()
+            times.append(1000.0 * (time.perf_counter() - start))
+            errors.close()
+        image = vtkImageData()
+        image.DeepCopy(integrator.GetOutput())
+        return RenderResult(image, times[1:] if repeat > 0 else [],
+                            integrator.GetNumberOfSamples())
+
+    def _render_gpu(self, method, scene, step_length, repeat):
+        self._ensure_window(scene.size)
+        mapper = method.make_mapper()
+        mapper.SetInputData(scene.image)
+        mapper.SetSampleDistance(step_length)
+        volume = vtkVolume()
+        volume.SetMapper(mapper)
+        volume.SetProperty(scene.prop)
+        renderer = self._renderer
+        renderer.RemoveAllViewProps()
+        renderer.AddVolume(volume)
+        camera = renderer.GetActiveCamera()
+        camera.DeepCopy(scene.camera)
+        renderer.ResetCameraClippingRange()
+        errors = _Errors(mapper, self._window)
+        try:
+            self._window.Render()
+            self._window.WaitForCompletion()
+            times = []
+            for _ in range(max(repeat, 0)):
+                start = time.perf_counter()
+                self._window.Render()
+                self._window.WaitForCompletion()
+                times.append(1000.0 * (time.perf_counter() - start))
+            statistics = method.statistics(mapper)
+        finally:
+            renderer.RemoveAllViewProps()
+            errors.close()
+        image = vtkImageData()
+        capture_errors = _Errors(self._capture)
+        self._capture.Capture(image)
+        capture_errors.close()
+        rays = core.vtkCameraRayModel()
+        rays.SetCamera(scene.camera)
+        rays.SetImageSize(*scene.size)
+        samples = rays.CountFixedStepSamples(scene.image, step_length) if rays.Prepare() else None
+        result = RenderResult(image, times, samples, statistics)
+        mapper.ReleaseGraphicsResources(self._window)
+        return result
+
+    def close(self):
+        if self._window is not None:
+            self._window.Finalize()
+            self._window = None
+
+
+def compare(image, reference):
+    """Error metrics of ``image`` against ``reference`` (vtkRGBAErrorMetrics): a dict and the
+    difference image."""
+    metrics = core.vtkRGBAErrorMetrics()
+    metrics.SetInputData(image)
+    metrics.SetReferenceData(reference)
+    errors = _Errors(metrics)
+    metrics.Update()
+    errors.close()
+    values = {"rmse": metrics.GetRMSE(), "max_error": metrics.GetMaximumError()}
+    for index, channel in enumerate("rgba"):
+        values["rmse_" + channel] = metrics.GetChannelRMSE(index)
+        values["max_error_" + channel] = metrics.GetChannelMaximumError(index)
+    difference = vtkImageData()
+    difference.DeepCopy(metrics.GetOutput())
+    return values, difference

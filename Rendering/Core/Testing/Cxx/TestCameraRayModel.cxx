@@ -1,0 +1,4 @@
+int TestCameraRayModel(int, char*[])
+{
+  return 1;
+}

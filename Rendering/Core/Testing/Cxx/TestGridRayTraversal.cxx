@@ -1,0 +1,4 @@
+int TestGridRayTraversal(int, char*[])
+{
+  return 1;
+}

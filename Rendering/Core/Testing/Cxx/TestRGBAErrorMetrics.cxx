@@ -1,0 +1,4 @@
+int TestRGBAErrorMetrics(int, char*[])
+{
+  return 1;
+}

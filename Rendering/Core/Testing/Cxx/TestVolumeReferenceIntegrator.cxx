@@ -1,0 +1,4 @@
+int TestVolumeReferenceIntegrator(int, char*[])
+{
+  return 1;
+}

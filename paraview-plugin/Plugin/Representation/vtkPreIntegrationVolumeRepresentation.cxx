@@ -1,0 +1,91 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkPreIntegrationVolumeRepresentation.h"
+
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPreIntegrationVolumeMapper.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkPreIntegrationVolumeRepresentation);
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
+{
+  // Replaces the superclass's vtkMultiBlockVolumeMapper before anything is connected to it:
+  // the superclass connects and configures whatever VolumeMapper holds when it renders.
+  vtkNew<vtkPreIntegrationVolumeMapper> mapper;
+  this->Integration = mapper->GetIntegration();
+  this->TableSize = mapper->GetTableSize();
+  this->HalfFloatTable = mapper->GetHalfFloatTable();
+  this->VolumeMapper = mapper;
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationVolumeRepresentation::~vtkPreIntegrationVolumeRepresentation() = default;
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationVolumeRepresentation::ComputeAutomaticSampleDistance()
+{
+  vtkImageData* image = vtkImageData::SafeDownCast(this->VolumeMapper->GetInput());
+  if (!image)
+  {
+    return 0.0;
+  }
+  const double* spacing = image->GetSpacing();
+  double smallest = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    // Zero spacing (a flat axis) is no step at all: skip it.
+    const double s = std::abs(spacing[a]);
+    if (s > 0.0 && (smallest == 0.0 || s < smallest))
+    {
+      smallest = s;
+    }
+  }
+  return 0.5 * smallest;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
+{
+  // The superclass selects the array, the scalar mode and the cropping planes and sets the
+  // mapper on the actor; where it needs vtkSmartVolumeMapper or vtkMultiBlockVolumeMapper it
+  // down-casts, so for this mapper those settings are skipped rather than misapplied.
+  this->Superclass::UpdateMapperParameters();
+
+  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
+  if (!mapper)
+  {
+    return;
+  }
+  mapper->SetIntegration(this->Integration);
+  mapper->SetTableSize(this->TableSize);
+  mapper->SetHalfFloatTable(this->HalfFloatTable);
+
+  double distance = this->SampleDistance;
+  if (!(distance > 0.0))
+  {
+    distance = this->ComputeAutomaticSampleDistance();
+  }
+  // Without input (a process that only draws the outline) the mapper draws nothing, so its
+  // sample distance is left alone.
+  if (distance > 0.0 && std::isfinite(distance))
+  {
+    mapper->SetSampleDistance(distance);
+    this->EffectiveSampleDistance = distance;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Integration: " << this->Integration << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "HalfFloatTable: " << this->HalfFloatTable << "\n";
+  os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
+}

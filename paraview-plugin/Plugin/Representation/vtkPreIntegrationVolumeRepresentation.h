@@ -1,0 +1,98 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkPreIntegrationVolumeRepresentation
+ * @brief   ParaView's image volume representation drawn by vtkPreIntegrationVolumeMapper
+ *
+ * vtkImageVolumeRepresentation with its mapper (a vtkMultiBlockVolumeMapper in ParaView 5.11)
+ * replaced by hovr's vtkPreIntegrationVolumeMapper; the plugin offers it as the "hovr Volume"
+ * representation of image data. What the superclass forwards to any vtkVolumeMapper and to
+ * the vtkVolumeProperty (array selection, transfer functions, scalar opacity unit distance,
+ * blend mode, cropping, interpolation) keeps working. Settings that only
+ * vtkSmartVolumeMapper/vtkMultiBlockVolumeMapper know (volume rendering mode, global
+ * illumination, the Y-axis array of a 2D transfer function) are skipped by the superclass for
+ * another mapper type and have no effect. Partitioned datasets are not drawn (the superclass
+ * warns); the mapper itself draws rectilinear grids, multi-component data, shading and 2D
+ * transfer functions with VTK's stock compositing.
+ *
+ * The hovr settings below are kept here and passed to the mapper before every render
+ * (UpdateMapperParameters), so changing one does not re-execute the representation.
+ */
+#ifndef vtkPreIntegrationVolumeRepresentation_h
+#define vtkPreIntegrationVolumeRepresentation_h
+
+#include "hovrParaViewRepresentationModule.h" // For export macro
+#include "vtkImageVolumeRepresentation.h"
+
+class HOVRPARAVIEWREPRESENTATION_EXPORT vtkPreIntegrationVolumeRepresentation
+  : public vtkImageVolumeRepresentation
+{
+public:
+  static vtkPreIntegrationVolumeRepresentation* New();
+  vtkTypeMacro(vtkPreIntegrationVolumeRepresentation, vtkImageVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * How samples are composited: a value of vtkPreIntegrationVolumeMapper::IntegrationModes,
+   * passed on unchanged (the mapper validates it, so a new mode needs no change here).
+   * Initial value is the mapper's, FIRST_ORDER.
+   */
+  vtkSetMacro(Integration, int);
+  vtkGetMacro(Integration, int);
+  ///@}
+
+  ///@{
+  /**
+   * Distance between samples along a ray, in world units; 0 (or any value that is not
+   * positive) chooses half the smallest grid spacing of the input image, i.e. two samples per
+   * cell along its shortest edge. Initial value is 0.
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Entries of the pre-integration table along each scalar axis; 0 lets the mapper choose
+   * (see vtkPreIntegrationVolumeMapper::SetTableSize). Initial value is the mapper's, 0.
+   */
+  vtkSetMacro(TableSize, int);
+  vtkGetMacro(TableSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Store the table as 16-bit floats on the GPU. Initial value is the mapper's, false.
+   */
+  vtkSetMacro(HalfFloatTable, bool);
+  vtkGetMacro(HalfFloatTable, bool);
+  ///@}
+
+  /**
+   * The sample distance the mapper was last given: SampleDistance, or the automatic value
+   * derived from the input when SampleDistance is not positive. 0 before the first render.
+   */
+  vtkGetMacro(EffectiveSampleDistance, double);
+
+protected:
+  vtkPreIntegrationVolumeRepresentation();
+  ~vtkPreIntegrationVolumeRepresentation() override;
+
+  void UpdateMapperParameters() override;
+
+  // Half the smallest spacing of the mapper's input image, or 0 when there is none.
+  double ComputeAutomaticSampleDistance();
+
+  // The mapper's settings start from the mapper's own defaults (set in the constructor).
+  int Integration;
+  double SampleDistance = 0.0;
+  int TableSize;
+  bool HalfFloatTable;
+  double EffectiveSampleDistance = 0.0;
+
+private:
+  vtkPreIntegrationVolumeRepresentation(const vtkPreIntegrationVolumeRepresentation&) = delete;
+  void operator=(const vtkPreIntegrationVolumeRepresentation&) = delete;
+};
+
+#endif
