@@ -79,7 +79,10 @@ bool vtkCameraRayModel::Prepare()
       vtkErrorMacro("The view angle must lie in (0, 180) degrees, got " << angle << ".");
       return false;
     }
-    this->HalfHeight = std::tan(vtkMath::RadiansFromDegrees(angle) / 2.0);
+    // vtkCamera's view angle is vertical unless UseHorizontalViewAngle is on.
+    const double tangent = std::tan(vtkMath::RadiansFromDegrees(angle) / 2.0);
+    const bool horizontal = this->Camera->GetUseHorizontalViewAngle() != 0;
+    this->HalfHeight = horizontal ? tangent / aspect : tangent;
   }
   this->HalfWidth = this->HalfHeight * aspect;
   return true;

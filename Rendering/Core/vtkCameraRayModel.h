@@ -10,7 +10,8 @@
  *   - parallel projection: origin = position + x s (W/H) right + y s up, direction = forward,
  *     s being the camera's parallel scale;
  *   - perspective: origin = position, direction = normalize(forward + x t (W/H) right + y t up),
- *     t = tan(view angle / 2) (VTK's view angle is vertical).
+ *     t = tan(view angle / 2) (VTK's view angle is vertical; with the camera's
+ *     UseHorizontalViewAngle on it is horizontal and t = tan(view angle / 2) H/W).
  * forward = normalize(focal point - position), right = normalize(forward x view up),
  * up = right x forward. Window centre, shear and stereo are not modelled.
  */

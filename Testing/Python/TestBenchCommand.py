@@ -1,0 +1,69 @@
+"""``hovr bench``: a small configuration gives the CSV, images, difference images, the plot
+and the summary; optional datasets whose data is missing are skipped with a message; the
+reference is cached between runs; a broken configuration is a clear error."""
+
+import csv
+import json
+import os
+import tempfile
+import time
+
+from hovrtesting import Checker, PRESETS, run_cli
+
+c = Checker()
+tmp = tempfile.mkdtemp(prefix="hovr-bench-")
+config = {
+    "size": [48, 40],
+    "repeat": 2,
+    "methods": ["stock", "preint1"],
+    "steps": [1, 2],
+    "datasets": [
+        {"name": "ml17", "input": "marschner-lobb:17",
+         "tf": os.path.join(PRESETS, "transfer-functions", "marschner-lobb-spikes.json"),
+         "opacity_unit_distance": 0.1},
+        {"name": "absent", "input": os.path.join(tmp, "nothing.raw"), "dims": [4, 4, 4],
+         "type": "uint8", "tf": "x.json", "optional": True},
+    ],
+}
+path = os.path.join(tmp, "bench.json")
+with open(path, "w") as stream:
+    json.dump(config, stream)
+out = os.path.join(tmp, "report")
+start = time.time()
+code, stdout, stderr = run_cli("bench", path, "--output", out)
+first = time.time() - start
+c.check("skipping absent" in stderr, "a missing optional dataset is skipped with a message")
+c.check("ml17" in stdout and "preint1" in stdout, "summary printed")
+with open(os.path.join(out, "results.csv")) as stream:
+    rows = list(csv.DictReader(stream))
+c.check(len(rows) == 4, "one row per method and step (%d rows)" % len(rows))
+for row in rows:
+    for key in ("median_ms", "rmse", "max_error", "rmse_a", "samples_per_frame"):
+        c.check(row.get(key) not in (None, ""), "row %s/%s has %s" % (row["method"], row["step"],
+                                                                     key))
+    c.check(float(row["rmse"]) > 0 and float(row["rmse"]) < 0.5, "plausible RMSE %s" % row["rmse"])
+    c.check(row["ms_ratio_to_stock"] != "", "ratio to stock in the same run")
+    stem = "ml17_%s_step%g" % (row["method"], float(row["step"]))
+    for suffix in (".png", "_diff.png"):
+        c.check(os.path.isfile(os.path.join(out, "images", stem + suffix)), stem + suffix)
+stock = {float(r["step"]): float(r["rmse"]) for r in rows if r["method"] == "stock"}
+c.check(stock[1] < stock[2], "stock error shrinks with the step (%s)" % stock)
+for name in ("tradeoff.png", "summary.txt", os.path.join("images", "ml17_reference.png")):
+    c.check(os.path.isfile(os.path.join(out, name)), name + " written")
+with open(os.path.join(out, "tradeoff.png"), "rb") as stream:
+    c.check(stream.read(4) == b"\x89PNG", "the plot is a PNG")
+cached = [f for f in os.listdir(os.path.join(out, "cache")) if f.endswith(".vti")]
+c.check(len(cached) == 1, "the reference is cached")
+mtime = os.path.getmtime(os.path.join(out, "cache", cached[0]))
+run_cli("bench", path, "--output", out)
+c.check(os.path.getmtime(os.path.join(out, "cache", cached[0])) == mtime,
+        "the cached reference is reused")
+
+broken = os.path.join(tmp, "broken.json")
+with open(broken, "w") as stream:
+    stream.write('{"datasets": [], "methods": ["nope"]}')
+code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
+c.check("unknown method" in stderr, "unknown method in a configuration is reported")
+code, stdout, stderr = run_cli("bench", os.path.join(tmp, "none.json"), expect=2)
+c.check("cannot read bench configuration" in stderr, "missing configuration is reported")
+c.finish()

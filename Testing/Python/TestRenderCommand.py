@@ -1,0 +1,206 @@
+"""``hovr render``: the documented contract, and a clear error for every bad input.
+
+Good input: every method writes a W x H x 1 float RGBA .vti (premultiplied, pixel (i, j) from
+left and bottom) and a .png; --repeat prints one JSON line with the documented keys.
+Bad input: exit code 2, a message naming the problem, no Python traceback.
+"""
+
+import json
+import math
+import os
+import tempfile
+
+import numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
+from vtkmodules.vtkIOLegacy import vtkPolyDataWriter
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter
+
+from hovrtesting import Checker, run_cli, tf_path
+
+c = Checker()
+tmp = tempfile.mkdtemp(prefix="hovr-render-")
+TF = tf_path("marschner-lobb-spikes")
+
+
+def write_vti(path, values, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), components=1):
+    """Write a numpy array indexed [z, y, x] (or [z, y, x, c]) as point scalars."""
+    image = vtkImageData()
+    shape = values.shape[:3]
+    image.SetDimensions(shape[2], shape[1], shape[0])
+    image.SetSpacing(spacing)
+    image.SetOrigin(origin)
+    flat = numpy.ascontiguousarray(values.reshape(-1, components) if components > 1
+                                   else values.ravel())
+    array = numpy_to_vtk(flat, deep=True)
+    array.SetName("scalars")
+    image.GetPointData().SetScalars(array)
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+    return path
+
+
+def read_rgba(path):
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    rgba = vtk_to_numpy(image.GetPointData().GetArray("RGBA"))
+    w, h, _ = image.GetDimensions()
+    return image.GetDimensions(), rgba.reshape(h, w, 4)
+
+
+def write_json(name, document):
+    path = os.path.join(tmp, name)
+    with open(path, "w") as stream:
+        json.dump(document, stream)
+    return path
+
+
+# A volume that is opaque-ish only where x < 0 and y < 0, seen from +z with a parallel camera
+# whose view up is +y: only the lower-left image quadrant may show it.
+n = 17
+grid = numpy.linspace(-1.0, 1.0, n)
+z, y, x = numpy.meshgrid(grid, grid, grid, indexing="ij")
+quadrant = numpy.where((x < -0.1) & (y < -0.1), 0.5, 0.0).astype(numpy.float32)
+quadrant_vti = write_vti(os.path.join(tmp, "quadrant.vti"), quadrant,
+                         spacing=(2.0 / (n - 1),) * 3, origin=(-1.0, -1.0, -1.0))
+flat_tf = write_json("flat.json", [{"Name": "flat", "RGBPoints": [0, 1, 0.5, 0.25, 1, 1, 0.5, 0.25],
+                                    "Points": [0, 0, 0.5, 0, 0.4, 0, 0.5, 0, 0.5, 0.6, 0.5, 0,
+                                               1, 0.6, 0.5, 0]}])
+top_camera = write_json("top.json", {"position": [0, 0, 5], "focal_point": [0, 0, 0],
+                                     "view_up": [0, 1, 0], "parallel_projection": True,
+                                     "parallel_scale": 1.2})
+W, H = 40, 30
+for method in ("reference", "stock", "preint1"):
+    out = os.path.join(tmp, "quadrant_%s.vti" % method)
+    code, stdout, stderr = run_cli("render", "--input", quadrant_vti, "--tf", flat_tf,
+                                   "--camera", top_camera, "--size", W, H, "--method", method,
+                                   "--step", 0.5, "--output", out, "--repeat", 2)
+    line = json.loads(stdout.strip().splitlines()[-1])
+    for key in ("method", "step", "width", "height", "median_ms", "min_ms", "max_ms"):
+        c.check(key in line, "%s: JSON line has %s" % (method, key))
+    c.check(line["method"] == method and line["width"] == W and line["height"] == H,
+            "%s: JSON line describes the run" % method)
+    c.check(line.get("samples_per_frame", 0) > 0, "%s: samples per frame known" % method)
+    c.check(line["min_ms"] <= line["median_ms"] <= line["max_ms"], "%s: timing order" % method)
+    dims, rgba = read_rgba(out)
+    c.check(dims == (W, H, 1), "%s: output is W x H x 1 (%s)" % (method, dims))
+    alpha = rgba[:, :, 3]
+    # The view spans x in [-1.6, 1.6] over 40 columns and y in [-1.2, 1.2] over 30 rows; the
+    # drawn part of the volume, x and y in [-1, -0.1], covers columns 8..18 and rows 3..13.
+    lower_left = alpha[4:13, 9:18]
+    others = numpy.concatenate([alpha[16:, :].ravel(), alpha[:, 21:].ravel(),
+                                alpha[:2, :].ravel(), alpha[:, :7].ravel()])
+    c.check(lower_left.min() > 0.3, "%s: lower-left quadrant is drawn (min alpha %.3f)"
+            % (method, lower_left.min()))
+    c.check(others.max() < 1e-6, "%s: the rest is transparent (max alpha %.3g)"
+            % (method, others.max()))
+    c.check(numpy.all(rgba[:, :, :3] <= rgba[:, :, 3:4] + 1e-5),
+            "%s: colour is premultiplied (rgb <= alpha)" % method)
+    # A homogeneous slab along the view: 2 world units of extinction -ln(1 - 0.6) per unit.
+    expected = 1.0 - math.exp(math.log(1.0 - 0.6) * 2.0)
+    c.check(abs(alpha[8, 13] - expected) < 0.02, "%s: slab opacity %.4f, expected %.4f"
+            % (method, alpha[8, 13], expected))
+
+png = os.path.join(tmp, "ml.png")
+run_cli("render", "--input", "marschner-lobb:21", "--tf", TF, "--opacity-unit-distance", 0.05,
+        "--size", 32, 32, "--output", png)
+with open(png, "rb") as stream:
+    c.check(stream.read(8) == b"\x89PNG\r\n\x1a\n", "--output .png writes a PNG")
+
+# Raw input with --dims/--type/--spacing, little-endian, x fastest.
+raw = os.path.join(tmp, "ramp.raw")
+(numpy.arange(8 * 6 * 5, dtype="<u2") % 200).tofile(raw)
+ramp_tf = write_json("ramp.json", {"RGBPoints": [0, 0, 0, 1, 200, 1, 0, 0],
+                                   "Points": [0, 0.1, 0.5, 0, 200, 0.9, 0.5, 0]})
+run_cli("render", "--input", raw, "--dims", 8, 6, 5, "--type", "uint16", "--spacing", 1, 2, 1,
+        "--tf", ramp_tf, "--size", 16, 16, "--method", "preint1",
+        "--output", os.path.join(tmp, "raw.vti"))
+
+# NaN values: a warning, and a finite image.
+nan_volume = quadrant.copy()
+nan_volume[8, 8, 2] = numpy.nan
+nan_vti = write_vti(os.path.join(tmp, "nan.vti"), nan_volume, spacing=(2.0 / (n - 1),) * 3,
+                    origin=(-1.0, -1.0, -1.0))
+for method in ("reference", "preint1", "stock"):
+    out = os.path.join(tmp, "nan_%s.vti" % method)
+    code, stdout, stderr = run_cli("render", "--input", nan_vti, "--tf", flat_tf, "--camera",
+                                   top_camera, "--size", 24, 24, "--method", method,
+                                   "--output", out)
+    c.check("NaN" in stderr, "%s: NaN values are reported" % method)
+    c.check(numpy.isfinite(read_rgba(out)[1]).all(), "%s: NaN gives no NaN pixels" % method)
+
+# Bad inputs: exit code 2 and a message that names the problem.
+multi = write_vti(os.path.join(tmp, "multi.vti"), numpy.zeros((4, 4, 4, 3), numpy.float32),
+                  components=3)
+thin = write_vti(os.path.join(tmp, "thin.vti"), numpy.zeros((1, 5, 5), numpy.float32))
+single = write_vti(os.path.join(tmp, "single.vti"), numpy.zeros((1, 1, 1), numpy.float32))
+empty = os.path.join(tmp, "empty.vti")
+writer = vtkXMLImageDataWriter()
+writer.SetFileName(empty)
+writer.SetInputData(vtkImageData())
+writer.Write()
+garbage = os.path.join(tmp, "garbage.vti")
+with open(garbage, "w") as stream:
+    stream.write("not a VTK file")
+poly = os.path.join(tmp, "poly.vtk")
+poly_writer = vtkPolyDataWriter()
+poly_writer.SetFileName(poly)
+poly_writer.SetInputData(vtkPolyData())
+poly_writer.Write()
+no_points = write_json("nopoints.json", {"RGBPoints": [0, 0, 0, 0, 1, 1, 1, 1]})
+no_rgb = write_json("norgb.json", {"Points": [0, 0, 0.5, 0, 1, 1, 0.5, 0]})
+not_tf = write_json("nottf.json", {"Name": "nothing"})
+bad_alpha = write_json("badalpha.json", {"RGBPoints": [0, 0, 0, 0], "Points": [0, 1.5, 0.5, 0]})
+parallel_up = write_json("badcam.json", {"position": [0, 0, 5], "focal_point": [0, 0, 0],
+                                         "view_up": [0, 0, 1]})
+small_raw = os.path.join(tmp, "small.raw")
+numpy.zeros(10, numpy.uint8).tofile(small_raw)
+missing = os.path.join(tmp, "does-not-exist.vti")
+good = ["--tf", TF, "--size", 16, 16]
+cases = [
+    ("missing input", ["--input", missing] + good, "not found"),
+    ("unreadable input", ["--input", garbage] + good, "cannot read"),
+    ("a directory as input", ["--input", tmp] + good, "not found"),
+    ("unknown format", ["--input", TF] + good, "unknown volume format"),
+    ("not image data", ["--input", poly] + good, "not image data"),
+    ("multi-component scalars", ["--input", multi] + good, "components"),
+    ("1-voxel-thick volume", ["--input", thin] + good, "at least 2 points"),
+    ("1-voxel volume", ["--input", single] + good, "at least 2 points"),
+    ("empty volume", ["--input", empty] + good, "empty"),
+    ("raw without dims", ["--input", small_raw, "--type", "uint8"] + good, "--dims"),
+    ("raw too small", ["--input", small_raw, "--dims", 4, 4, 4, "--type", "uint8"] + good,
+     "bytes"),
+    ("missing transfer function", ["--input", quadrant_vti, "--tf", missing, "--size", 8, 8],
+     "not found"),
+    ("transfer function without Points", ["--input", quadrant_vti, "--tf", no_points],
+     "Points"),
+    ("transfer function without RGBPoints", ["--input", quadrant_vti, "--tf", no_rgb],
+     "RGBPoints"),
+    ("file without a transfer function", ["--input", quadrant_vti, "--tf", not_tf],
+     "no transfer function"),
+    ("opacity above 1", ["--input", quadrant_vti, "--tf", bad_alpha], "outside [0, 1]"),
+    ("camera view up along the view", ["--input", quadrant_vti, "--tf", TF, "--camera",
+                                       parallel_up], "parallel"),
+    ("missing camera", ["--input", quadrant_vti, "--tf", TF, "--camera", missing], "not found"),
+    ("bad output extension", ["--input", quadrant_vti, "--tf", TF, "--output",
+                              os.path.join(tmp, "x.jpg")], ".vti or .png"),
+    ("zero step", ["--input", quadrant_vti, "--tf", TF, "--step", 0], "positive"),
+    ("negative step", ["--input", quadrant_vti, "--tf", TF, "--step", -1], "positive"),
+    ("zero unit distance", ["--input", quadrant_vti, "--tf", TF, "--opacity-unit-distance", 0],
+     "positive"),
+    ("negative unit distance", ["--input", quadrant_vti, "--tf", TF,
+                                "--opacity-unit-distance", -2], "positive"),
+    ("NaN step", ["--input", quadrant_vti, "--tf", TF, "--step", "nan"], "positive"),
+    ("zero size", ["--input", quadrant_vti, "--tf", TF, "--size", 0, 10], "[1, 16384]"),
+    ("unknown method", ["--input", quadrant_vti, "--tf", TF, "--method", "magic"], "magic"),
+]
+for what, args, message in cases:
+    code, stdout, stderr = run_cli("render", *args, expect=None)
+    c.check(code == 2, "%s: exit code 2 (got %d)" % (what, code))
+    c.check(message in stderr, "%s: message mentions %r: %s" % (what, message, stderr.strip()))
+    c.check("Traceback" not in stderr, "%s: no traceback" % what)
+c.finish()

@@ -1,0 +1,56 @@
+"""Helpers shared by hovr's Python tests (not part of the package)."""
+
+import os
+import subprocess
+import sys
+
+SKIP = 125  # ctest SKIP_RETURN_CODE
+
+ROOT = os.environ.get("HOVR_ROOT", os.path.abspath(os.path.join(os.path.dirname(__file__),
+                                                                 os.pardir, os.pardir)))
+PRESETS = os.path.join(ROOT, "presets")
+
+
+def data_folder():
+    return os.environ.get("HOVR_DATA") or os.path.join(ROOT, os.pardir, "shared", "data")
+
+
+def shared_volume(name):
+    """Path of a shared test volume, or None when the shared data is absent."""
+    path = os.path.join(data_folder(), name)
+    return path if os.path.isfile(path) else None
+
+
+def tf_path(name):
+    return os.path.join(PRESETS, "transfer-functions", name + ".json")
+
+
+def run_cli(*args, expect=0):
+    """Run ``python3 -m hovr.cli`` and return (exit code, stdout, stderr)."""
+    process = subprocess.run([sys.executable, "-m", "hovr.cli"] + [str(a) for a in args],
+                             capture_output=True, text=True, env=dict(os.environ))
+    if expect is not None and process.returncode != expect:
+        raise AssertionError("hovr %s: exit %d (expected %d)\nstdout: %s\nstderr: %s" % (
+            " ".join(str(a) for a in args), process.returncode, expect, process.stdout,
+            process.stderr))
+    return process.returncode, process.stdout, process.stderr
+
+
+class Checker:
+    """Collects failed checks; exit(1) at the end if any failed."""
+
+    def __init__(self):
+        self.failures = 0
+
+    def check(self, condition, what):
+        if not condition:
+            print("FAILED: " + what)
+            self.failures += 1
+        return condition
+
+    def finish(self):
+        if self.failures:
+            print("%d checks failed" % self.failures)
+            sys.exit(1)
+        print("all checks passed")
+        sys.exit(0)
