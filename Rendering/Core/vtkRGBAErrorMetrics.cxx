@@ -41,6 +41,16 @@ double vtkRGBAErrorMetrics::GetChannelMaximumError(int channel) const
 }
 
 //------------------------------------------------------------------------------
+int vtkRGBAErrorMetrics::FillInputPortInformation(int port, vtkInformation* info)
+{
+  this->Superclass::FillInputPortInformation(port, info);
+  // Optional for the pipeline so that RequestData runs without one of the images: it reports
+  // the missing image and resets the metrics to -1 instead of leaving the last values.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkRGBAErrorMetrics::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {

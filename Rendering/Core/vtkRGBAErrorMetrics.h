@@ -56,6 +56,7 @@ protected:
   vtkRGBAErrorMetrics();
   ~vtkRGBAErrorMetrics() override;
 
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
