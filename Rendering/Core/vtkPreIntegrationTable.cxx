@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationTable.h"
 
+#include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
 #include "vtkTimerLog.h"
 #include "vtkVolumeTransferFunctionSampler.h"
@@ -15,6 +16,7 @@ vtkPreIntegrationTable::vtkPreIntegrationTable()
 {
   this->Table->SetNumberOfComponents(4);
   this->Table->SetName("PreIntegrationTable");
+  vtkErrorForwarder::Forward(this->Sampler, this);
 }
 
 //------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
 #include "vtkDataArray.h"
+#include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
 #include "vtkGridRayTraversal.h"
 #include "vtkImageData.h"
@@ -166,6 +167,8 @@ vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator()
   this->SetNumberOfOutputPorts(1);
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+  vtkErrorForwarder::Forward(this->RayModel, this);
+  vtkErrorForwarder::Forward(this->Sampler, this);
 }
 
 //------------------------------------------------------------------------------

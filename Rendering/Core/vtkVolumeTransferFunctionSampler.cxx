@@ -14,6 +14,7 @@
 vtkStandardNewMacro(vtkVolumeTransferFunctionSampler);
 vtkCxxSetObjectMacro(vtkVolumeTransferFunctionSampler, Color, vtkColorTransferFunction);
 vtkCxxSetObjectMacro(vtkVolumeTransferFunctionSampler, ScalarOpacity, vtkPiecewiseFunction);
+vtkCxxSetObjectMacro(vtkVolumeTransferFunctionSampler, GrayColor, vtkPiecewiseFunction);
 
 namespace
 {
@@ -117,6 +118,7 @@ vtkVolumeTransferFunctionSampler::vtkVolumeTransferFunctionSampler()
 vtkVolumeTransferFunctionSampler::~vtkVolumeTransferFunctionSampler()
 {
   this->SetColor(nullptr);
+  this->SetGrayColor(nullptr);
   this->SetScalarOpacity(nullptr);
   delete this->Internals;
 }
@@ -127,12 +129,13 @@ void vtkVolumeTransferFunctionSampler::SetFromVolumeProperty(vtkVolumeProperty* 
   if (!property)
   {
     this->SetColor(nullptr);
+    this->SetGrayColor(nullptr);
     this->SetScalarOpacity(nullptr);
     return;
   }
-  // GetRGBTransferFunction would create a default function; a missing one must stay missing.
-  this->SetColor(property->GetColorChannels(0) == 3 ? property->GetRGBTransferFunction(0)
-                                                    : nullptr);
+  const bool rgb = property->GetColorChannels(0) == 3;
+  this->SetColor(rgb ? property->GetRGBTransferFunction(0) : nullptr);
+  this->SetGrayColor(rgb ? nullptr : property->GetGrayTransferFunction(0));
   this->SetScalarOpacity(property->GetScalarOpacity(0));
   this->SetScalarOpacityUnitDistance(property->GetScalarOpacityUnitDistance(0));
 }
@@ -145,6 +148,10 @@ vtkMTimeType vtkVolumeTransferFunctionSampler::GetMTime()
   {
     t = std::max(t, this->Color->GetMTime());
   }
+  if (this->GrayColor)
+  {
+    t = std::max(t, this->GrayColor->GetMTime());
+  }
   if (this->ScalarOpacity)
   {
     t = std::max(t, this->ScalarOpacity->GetMTime());
@@ -155,7 +162,8 @@ vtkMTimeType vtkVolumeTransferFunctionSampler::GetMTime()
 //------------------------------------------------------------------------------
 bool vtkVolumeTransferFunctionSampler::Prepare()
 {
-  if (!this->Color || this->Color->GetSize() < 1)
+  const bool hasColor = this->Color && this->Color->GetSize() > 0;
+  if (!hasColor && !(this->GrayColor && this->GrayColor->GetSize() > 0))
   {
     vtkErrorMacro("No colour transfer function (or one without nodes) was given.");
     return false;
@@ -184,12 +192,20 @@ bool vtkVolumeTransferFunctionSampler::Prepare()
     this->ScalarOpacity->GetNodeValue(static_cast<int>(i), v);
     in.OpacityNodes[i] = Node{ v[0], { v[1], 0.0, 0.0 }, v[2], v[3] };
   }
-  in.ColorNodes.resize(this->Color->GetSize());
+  in.ColorNodes.resize(hasColor ? this->Color->GetSize() : this->GrayColor->GetSize());
   for (size_t i = 0; i < in.ColorNodes.size(); ++i)
   {
     double v[6];
-    this->Color->GetNodeValue(static_cast<int>(i), v);
-    in.ColorNodes[i] = Node{ v[0], { v[1], v[2], v[3] }, v[4], v[5] };
+    if (hasColor)
+    {
+      this->Color->GetNodeValue(static_cast<int>(i), v);
+      in.ColorNodes[i] = Node{ v[0], { v[1], v[2], v[3] }, v[4], v[5] };
+    }
+    else
+    {
+      this->GrayColor->GetNodeValue(static_cast<int>(i), v);
+      in.ColorNodes[i] = Node{ v[0], { v[1], v[1], v[1] }, v[2], v[3] };
+    }
   }
   auto byX = [](const Node& a, const Node& b) { return a.X < b.X; };
   std::stable_sort(in.OpacityNodes.begin(), in.OpacityNodes.end(), byX);
@@ -302,6 +318,7 @@ void vtkVolumeTransferFunctionSampler::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Color: " << this->Color << "\n";
+  os << indent << "GrayColor: " << this->GrayColor << "\n";
   os << indent << "ScalarOpacity: " << this->ScalarOpacity << "\n";
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "MaximumOpacity: " << this->MaximumOpacity << "\n";

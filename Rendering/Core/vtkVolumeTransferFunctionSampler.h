@@ -49,6 +49,16 @@ public:
 
   ///@{
   /**
+   * Grey colour function, used when no colour transfer function is set (as
+   * vtkVolumeProperty::SetColor(vtkPiecewiseFunction*)): colour (g, g, g). Initial value is
+   * nullptr.
+   */
+  virtual void SetGrayColor(vtkPiecewiseFunction*);
+  vtkGetObjectMacro(GrayColor, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /**
    * Scalar opacity function: opacity per ScalarOpacityUnitDistance. Initial value is nullptr.
    */
   virtual void SetScalarOpacity(vtkPiecewiseFunction*);
@@ -74,13 +84,14 @@ public:
   ///@}
 
   /**
-   * Take colour, scalar opacity and unit distance of component 0 of a volume property.
+   * Take colour (RGB or grey), scalar opacity and unit distance of component 0 of a volume
+   * property. Like VTK's mappers, a property without functions yields VTK's default ones.
    */
   void SetFromVolumeProperty(vtkVolumeProperty* property);
 
   /**
    * Check the settings and copy the nodes for evaluation. Returns false and reports an error
-   * if a function is missing or empty or the unit distance is not positive. Cheap when
+   * if a function is missing or empty or the unit distance is not positive (or not finite). Cheap when
    * nothing changed since the last call.
    */
   bool Prepare();
@@ -133,6 +144,7 @@ protected:
   ~vtkVolumeTransferFunctionSampler() override;
 
   vtkColorTransferFunction* Color = nullptr;
+  vtkPiecewiseFunction* GrayColor = nullptr;
   vtkPiecewiseFunction* ScalarOpacity = nullptr;
   double ScalarOpacityUnitDistance = 1.0;
   double MaximumOpacity = 1.0 - 1e-9;

@@ -100,6 +100,24 @@ int TestVolumeTransferFunctionSampler(int, char*[])
     "NaN scalar is transparent black");
   Check(sampler->GetSmallestFeature() == VTK_DOUBLE_MAX, "no feature with single nodes");
 
+  // A grey colour function gives grey colours with VTK's values; errors of the sampler reach
+  // observers of the object that owns it (here: a pre-integration table).
+  vtkNew<vtkPiecewiseFunction> gray;
+  gray->AddPoint(0.0, 0.2);
+  gray->AddPoint(10.0, 0.9, 0.3, 0.4);
+  vtkNew<vtkVolumeProperty> grayProperty;
+  grayProperty->SetColor(gray);
+  grayProperty->SetScalarOpacity(opacity);
+  sampler->SetFromVolumeProperty(grayProperty);
+  Check(sampler->Prepare(), "Prepare with a grey colour function");
+  for (double s = -1.0; s <= 11.0; s += 0.37)
+  {
+    sampler->Evaluate(s, rgbTau);
+    const double g = gray->GetValue(s);
+    Check(std::abs(rgbTau[0] - g) < 1e-12 && rgbTau[1] == rgbTau[0] && rgbTau[2] == rgbTau[0],
+      "grey colour equals vtkPiecewiseFunction::GetValue on all channels");
+  }
+
   if (failures)
   {
     std::cerr << failures << " checks failed\n";
