@@ -108,7 +108,7 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(
   {
     return "first-order pre-integration does not shade";
   }
-  if (property->HasGradientOpacity(0))
+  if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0))
   {
     return "pre-integration does not support gradient opacity";
   }

@@ -17,9 +17,10 @@
  *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
  * flag and start and end where VTK's ray does. Composite blending of one-component scalars
- * without shading, gradient opacity or 2D transfer functions is pre-integrated; anything else
- * is drawn by VTK's stock path after a warning. The sample distance is fixed (automatic
- * adjustment is off) and must be positive: otherwise an error is reported and nothing is drawn.
+ * (RGB or grey colour) without shading, enabled gradient opacity or 2D transfer functions is
+ * pre-integrated; anything else is drawn by VTK's stock path after a warning. The sample
+ * distance is fixed (automatic adjustment is off) and must be positive: otherwise an error is
+ * reported and nothing is drawn.
  */
 #ifndef vtkPreIntegrationVolumeMapper_h
 #define vtkPreIntegrationVolumeMapper_h
