@@ -1,0 +1,57 @@
+"""Image regression for every method: the Marschner-Lobb volume with the narrow-spike
+transfer function, 128 x 128, rendered by each method of ``hovr render`` and compared with a
+baseline PNG (Testing/Data/Baseline/MethodBaseline_<method>.png).
+
+Tolerance: the PNGs are 8-bit, so a pixel may differ by 1/255 from rounding alone; llvmpipe
+results vary slightly between CPUs (ENVIRONMENT.md), so up to 0.5% of the pixels may differ
+by up to 8/255 and none by more. A missing baseline is written and the test fails: that is how
+a baseline is made (look at it before committing it).
+"""
+
+import os
+import sys
+
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+
+import hovr
+from hovr import io as hio
+from hovr import methods as hm
+from hovrtesting import Checker, ROOT, tf_path
+
+c = Checker()
+baselines = os.path.join(ROOT, "Testing", "Data", "Baseline")
+out_dir = os.path.join(os.environ.get("HOVR_BUILD", "."), "Testing", "Temporary")
+os.makedirs(out_dir, exist_ok=True)
+source = hovr.vtkMarschnerLobbSource()
+source.SetDimensions(41, 41, 41)
+source.Update()
+color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
+scene = hm.Scene(source.GetOutput(), hio.make_volume_property(color, opacity, 0.05),
+                 hio.default_camera(source.GetOutput().GetBounds()), (128, 128))
+renderer = hm.Renderer()
+for method in sorted(hm.METHODS):
+    result = renderer.render(method, scene, 1.0)
+    test_png = os.path.join(out_dir, "MethodBaseline_%s.png" % method)
+    hio.rgba_to_png(result.image, test_png)
+    baseline = os.path.join(baselines, "MethodBaseline_%s.png" % method)
+    if not os.path.isfile(baseline):
+        hio.rgba_to_png(result.image, baseline)
+        c.check(False, "%s: no baseline; wrote %s" % (method, baseline))
+        continue
+    images = []
+    for path in (test_png, baseline):
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        images.append(vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
+                      .astype(int))
+    difference = numpy.abs(images[0] - images[1]).max(axis=1)
+    large = (difference > 1).mean()
+    print("%-9s max difference %d/255, %.3f%% of pixels above 1/255" % (
+        method, difference.max(), 100 * large))
+    c.check(difference.max() <= 8 and large <= 0.005,
+            "%s matches its baseline (see %s)" % (method, test_png))
+renderer.close()
+c.finish()
