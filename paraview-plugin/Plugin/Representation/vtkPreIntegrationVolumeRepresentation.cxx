@@ -5,8 +5,8 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPreIntegrationVolumeMapper.h"
+#include "vtkRectilinearGrid.h"
 
-#include <algorithm>
 #include <cmath>
 
 vtkStandardNewMacro(vtkPreIntegrationVolumeRepresentation);
@@ -29,20 +29,33 @@ vtkPreIntegrationVolumeRepresentation::~vtkPreIntegrationVolumeRepresentation() 
 //------------------------------------------------------------------------------
 double vtkPreIntegrationVolumeRepresentation::ComputeAutomaticSampleDistance()
 {
-  vtkImageData* image = vtkImageData::SafeDownCast(this->VolumeMapper->GetInput());
-  if (!image)
+  // Grid steps along each axis: an image's spacing, a rectilinear grid's mean step (the mapper
+  // draws those with VTK's stock compositing, which also needs a sensible step).
+  double steps[3] = { 0.0, 0.0, 0.0 };
+  vtkDataSet* input = this->VolumeMapper->GetInput();
+  if (auto* image = vtkImageData::SafeDownCast(input))
   {
-    return 0.0;
+    image->GetSpacing(steps);
   }
-  const double* spacing = image->GetSpacing();
-  double smallest = 0.0;
-  for (int a = 0; a < 3; ++a)
+  else if (auto* grid = vtkRectilinearGrid::SafeDownCast(input))
   {
-    // Zero spacing (a flat axis) is no step at all: skip it.
-    const double s = std::abs(spacing[a]);
-    if (s > 0.0 && (smallest == 0.0 || s < smallest))
+    int dims[3];
+    double bounds[6];
+    grid->GetDimensions(dims);
+    grid->GetBounds(bounds);
+    for (int a = 0; a < 3; ++a)
     {
-      smallest = s;
+      steps[a] = dims[a] > 1 ? (bounds[2 * a + 1] - bounds[2 * a]) / (dims[a] - 1) : 0.0;
+    }
+  }
+  double smallest = 0.0;
+  for (double step : steps)
+  {
+    // A zero step (a flat axis) is no step at all: skip it.
+    step = std::abs(step);
+    if (step > 0.0 && (smallest == 0.0 || step < smallest))
+    {
+      smallest = step;
     }
   }
   return 0.5 * smallest;

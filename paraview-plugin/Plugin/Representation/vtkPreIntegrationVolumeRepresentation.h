@@ -11,8 +11,8 @@
  * vtkSmartVolumeMapper/vtkMultiBlockVolumeMapper know (volume rendering mode, global
  * illumination, the Y-axis array of a 2D transfer function) are skipped by the superclass for
  * another mapper type and have no effect. Partitioned datasets are not drawn (the superclass
- * warns); the mapper itself draws rectilinear grids, multi-component data, shading and 2D
- * transfer functions with VTK's stock compositing.
+ * warns); the mapper itself draws rectilinear grids, multi-component data, shading, blend
+ * modes other than composite and 2D transfer functions with VTK's stock path.
  *
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
@@ -44,8 +44,8 @@ public:
   ///@{
   /**
    * Distance between samples along a ray, in world units; 0 (or any value that is not
-   * positive) chooses half the smallest grid spacing of the input image, i.e. two samples per
-   * cell along its shortest edge. Initial value is 0.
+   * positive) chooses half the smallest grid spacing of the input (the mean spacing of a
+   * rectilinear grid), i.e. two samples per cell along its shortest edge. Initial value is 0.
    */
   vtkSetMacro(SampleDistance, double);
   vtkGetMacro(SampleDistance, double);
@@ -80,7 +80,7 @@ protected:
 
   void UpdateMapperParameters() override;
 
-  // Half the smallest spacing of the mapper's input image, or 0 when there is none.
+  // Half the smallest grid spacing of the mapper's input, or 0 when there is no grid.
   double ComputeAutomaticSampleDistance();
 
   // The mapper's settings start from the mapper's own defaults (set in the constructor).
