@@ -6,6 +6,7 @@
 #include "vtkSMPTools.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -22,7 +23,7 @@ vtkFirstOrderPreIntegrationTable::~vtkFirstOrderPreIntegrationTable() = default;
 void vtkFirstOrderPreIntegrationTable::BuildTable()
 {
   const int n = this->TableSize;
-  const int k = this->SubSamples;
+  const int k = this->GetEffectiveSubSamples();
   const double s0 = this->ScalarRange[0];
   const double spacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (n - 1);
   const double d = this->SegmentLength;
@@ -80,6 +81,13 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
       }
     }
   });
+}
+
+//------------------------------------------------------------------------------
+int vtkFirstOrderPreIntegrationTable::GetEffectiveSubSamples() const
+{
+  return this->SubSamples > 0 ? this->SubSamples
+                              : std::max(1, std::min(4, 1024 / std::max(this->TableSize, 1)));
 }
 
 //------------------------------------------------------------------------------

@@ -33,11 +33,18 @@ public:
 
   ///@{
   /**
-   * Integration pieces per table spacing that the segment's scalar crosses. Initial value is 4.
+   * Integration pieces per table spacing that the segment's scalar crosses; 0 chooses
+   * max(1, min(4, 1024 / TableSize)), which keeps large tables quick to build (the cost grows
+   * as TableSize^3 SubSamples). Initial value is 0.
    */
-  vtkSetClampMacro(SubSamples, int, 1, 256);
+  vtkSetClampMacro(SubSamples, int, 0, 256);
   vtkGetMacro(SubSamples, int);
   ///@}
+
+  /**
+   * The pieces per table spacing the next build uses (SubSamples, or its automatic value).
+   */
+  int GetEffectiveSubSamples() const;
 
   /**
    * RGBA of entry (front, back) after Update().
@@ -50,7 +57,7 @@ protected:
 
   void BuildTable() override;
 
-  int SubSamples = 4;
+  int SubSamples = 0;
 
 private:
   vtkFirstOrderPreIntegrationTable(const vtkFirstOrderPreIntegrationTable&) = delete;

@@ -177,7 +177,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   int size = this->TableSize > 0
     ? this->TableSize
     : vtkPreIntegrationTable::SuggestTableSize(
-        scalars->GetDataType(), range, table->GetSampler(), 64, 1024);
+        scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
   if (maxSize > 0 && size > maxSize)
   {
     vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize

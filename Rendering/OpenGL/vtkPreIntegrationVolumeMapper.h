@@ -58,8 +58,9 @@ public:
   ///@{
   /**
    * Entries of the table along each scalar axis; 0 chooses from the data and the transfer
-   * function: one entry per integer value of 8-bit data, 4 entries across the narrowest
-   * transfer-function feature otherwise, at most 1024 (vtkPreIntegrationTable::SuggestTableSize). Values above the OpenGL texture
+   * function: one entry per integer value of 8-bit data, otherwise 8 entries across the
+   * narrowest transfer-function feature, at least 256 and at most 1024
+   * (vtkPreIntegrationTable::SuggestTableSize). Values above the OpenGL texture
    * limit are clamped to it with a warning. Initial value is 0.
    */
   vtkSetClampMacro(TableSize, int, 0, 65536);
