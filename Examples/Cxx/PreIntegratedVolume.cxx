@@ -29,9 +29,14 @@
 namespace
 {
 // Renders the scene with one mapper and returns its RMSE against the reference.
-double RenderAndMeasure(vtkGPUVolumeRayCastMapper* mapper, vtkMarschnerLobbSource* source,
-  vtkVolumeProperty* property, vtkRenderer* renderer, vtkRenderWindow* window,
-  vtkFloatRGBARenderCapture* capture, vtkVolumeReferenceIntegrator* reference, double step)
+double RenderAndMeasure(vtkGPUVolumeRayCastMapper* mapper,
+  vtkMarschnerLobbSource* source,
+  vtkVolumeProperty* property,
+  vtkRenderer* renderer,
+  vtkRenderWindow* window,
+  vtkFloatRGBARenderCapture* capture,
+  vtkVolumeReferenceIntegrator* reference,
+  double step)
 {
   mapper->SetInputConnection(source->GetOutputPort());
   mapper->SetAutoAdjustSampleDistances(0);

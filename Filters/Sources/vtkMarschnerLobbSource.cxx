@@ -31,8 +31,9 @@ double vtkMarschnerLobbSource::Evaluate(double x, double y, double z, double fm,
 }
 
 //------------------------------------------------------------------------------
-int vtkMarschnerLobbSource::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkMarschnerLobbSource::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   int type = this->OutputScalarType;
   if (type != VTK_FLOAT && type != VTK_DOUBLE && type != VTK_UNSIGNED_CHAR &&
@@ -58,8 +59,8 @@ int vtkMarschnerLobbSource::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-void vtkMarschnerLobbSource::ExecuteDataWithInformation(
-  vtkDataObject* outputObject, vtkInformation* outInfo)
+void vtkMarschnerLobbSource::ExecuteDataWithInformation(vtkDataObject* outputObject,
+  vtkInformation* outInfo)
 {
   vtkImageData* output = this->AllocateOutputData(outputObject, outInfo);
   vtkDataArray* scalars = output->GetPointData()->GetScalars();
@@ -85,8 +86,11 @@ void vtkMarschnerLobbSource::ExecuteDataWithInformation(
       for (int i = extent[0]; i <= extent[1]; ++i, ++id)
       {
         double v = scale *
-          Evaluate(origin[0] + i * spacing[0], origin[1] + j * spacing[1],
-            origin[2] + k * spacing[2], this->Frequency, this->Alpha);
+          Evaluate(origin[0] + i * spacing[0],
+            origin[1] + j * spacing[1],
+            origin[2] + k * spacing[2],
+            this->Frequency,
+            this->Alpha);
         if (integer)
         {
           v = std::min(std::max(std::round(v), 0.0), scale);

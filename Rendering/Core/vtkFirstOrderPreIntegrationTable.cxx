@@ -39,48 +39,51 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
   }
 
   float* table = this->Table->GetPointer(0);
-  vtkSMPTools::For(0, n, [&](vtkIdType jBegin, vtkIdType jEnd) {
-    for (vtkIdType j = jBegin; j < jEnd; ++j) // back scalar: rows
+  vtkSMPTools::For(0,
+    n,
+    [&](vtkIdType jBegin, vtkIdType jEnd)
     {
-      for (int i = 0; i < n; ++i) // front scalar
+      for (vtkIdType j = jBegin; j < jEnd; ++j) // back scalar: rows
       {
-        double rgb[3] = { 0, 0, 0 };
-        double transmittance = 1.0;
-        if (i == j)
+        for (int i = 0; i < n; ++i) // front scalar
         {
-          const double* f = atNode.data() + 4 * i;
-          const double alpha = -std::expm1(-f[3] * d);
-          rgb[0] = f[0] * alpha;
-          rgb[1] = f[1] * alpha;
-          rgb[2] = f[2] * alpha;
-          transmittance = 1.0 - alpha;
-        }
-        else
-        {
-          // Walk the pieces from the front scalar to the back scalar.
-          const int pieces = static_cast<int>(std::abs(j - i)) * k;
-          const double h = d / pieces;
-          const int first = j > i ? i * k : i * k - 1;
-          const int step = j > i ? 1 : -1;
-          for (int p = 0; p < pieces; ++p)
+          double rgb[3] = { 0, 0, 0 };
+          double transmittance = 1.0;
+          if (i == j)
           {
-            const double* f = atPiece.data() + 4 * (first + step * p);
-            const double alpha = -std::expm1(-f[3] * h);
-            const double w = transmittance * alpha;
-            rgb[0] += w * f[0];
-            rgb[1] += w * f[1];
-            rgb[2] += w * f[2];
-            transmittance *= 1.0 - alpha;
+            const double* f = atNode.data() + 4 * i;
+            const double alpha = -std::expm1(-f[3] * d);
+            rgb[0] = f[0] * alpha;
+            rgb[1] = f[1] * alpha;
+            rgb[2] = f[2] * alpha;
+            transmittance = 1.0 - alpha;
           }
+          else
+          {
+            // Walk the pieces from the front scalar to the back scalar.
+            const int pieces = static_cast<int>(std::abs(j - i)) * k;
+            const double h = d / pieces;
+            const int first = j > i ? i * k : i * k - 1;
+            const int step = j > i ? 1 : -1;
+            for (int p = 0; p < pieces; ++p)
+            {
+              const double* f = atPiece.data() + 4 * (first + step * p);
+              const double alpha = -std::expm1(-f[3] * h);
+              const double w = transmittance * alpha;
+              rgb[0] += w * f[0];
+              rgb[1] += w * f[1];
+              rgb[2] += w * f[2];
+              transmittance *= 1.0 - alpha;
+            }
+          }
+          float* out = table + 4 * (j * static_cast<vtkIdType>(n) + i);
+          out[0] = static_cast<float>(rgb[0]);
+          out[1] = static_cast<float>(rgb[1]);
+          out[2] = static_cast<float>(rgb[2]);
+          out[3] = static_cast<float>(1.0 - transmittance);
         }
-        float* out = table + 4 * (j * static_cast<vtkIdType>(n) + i);
-        out[0] = static_cast<float>(rgb[0]);
-        out[1] = static_cast<float>(rgb[1]);
-        out[2] = static_cast<float>(rgb[2]);
-        out[3] = static_cast<float>(1.0 - transmittance);
       }
-    }
-  });
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -6,8 +6,12 @@
 #include <limits>
 
 //------------------------------------------------------------------------------
-bool vtkGridRayTraversal::ClipToBox(const double lo[3], const double hi[3],
-  const double origin[3], const double direction[3], double& tmin, double& tmax)
+bool vtkGridRayTraversal::ClipToBox(const double lo[3],
+  const double hi[3],
+  const double origin[3],
+  const double direction[3],
+  double& tmin,
+  double& tmax)
 {
   for (int a = 0; a < 3; ++a)
   {
@@ -33,8 +37,11 @@ bool vtkGridRayTraversal::ClipToBox(const double lo[3], const double hi[3],
 }
 
 //------------------------------------------------------------------------------
-bool vtkGridRayTraversal::Initialize(const int dims[3], const double origin[3],
-  const double direction[3], double tmin, double tmax)
+bool vtkGridRayTraversal::Initialize(const int dims[3],
+  const double origin[3],
+  const double direction[3],
+  double tmin,
+  double tmax)
 {
   this->Done = true;
   double hi[3];

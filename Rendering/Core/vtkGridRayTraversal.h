@@ -24,8 +24,11 @@ public:
    * cell. Returns false when the ray misses the box or the grid has fewer than 2 points on an
    * axis (no cells).
    */
-  bool Initialize(const int dims[3], const double origin[3], const double direction[3],
-    double tmin, double tmax);
+  bool Initialize(const int dims[3],
+    const double origin[3],
+    const double direction[3],
+    double tmin,
+    double tmax);
 
   /**
    * The next cell and the parameter interval [t0, t1] of the ray inside it. Returns false
@@ -45,8 +48,12 @@ public:
    * Clip a ray against the box [lo, hi]: on success tmin and tmax are narrowed to the
    * interval inside the box. Shared by every hovr ray caster.
    */
-  static bool ClipToBox(const double lo[3], const double hi[3], const double origin[3],
-    const double direction[3], double& tmin, double& tmax);
+  static bool ClipToBox(const double lo[3],
+    const double hi[3],
+    const double origin[3],
+    const double direction[3],
+    double& tmin,
+    double& tmax);
 
 private:
   int Cell[3] = { 0, 0, 0 };

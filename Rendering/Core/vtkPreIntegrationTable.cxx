@@ -43,8 +43,8 @@ bool vtkPreIntegrationTable::Update()
 {
   if (!(this->SegmentLength > 0.0) || !std::isfinite(this->SegmentLength))
   {
-    vtkErrorMacro("The segment length must be positive and finite, got " << this->SegmentLength
-                                                                         << ".");
+    vtkErrorMacro(
+      "The segment length must be positive and finite, got " << this->SegmentLength << ".");
     return false;
   }
   if (!(this->ScalarRange[1] > this->ScalarRange[0]) || !std::isfinite(this->ScalarRange[0]) ||
@@ -78,8 +78,11 @@ bool vtkPreIntegrationTable::Update()
 }
 
 //------------------------------------------------------------------------------
-int vtkPreIntegrationTable::SuggestTableSize(int scalarType, const double range[2],
-  vtkVolumeTransferFunctionSampler* sampler, int minimumSize, int maximumSize,
+int vtkPreIntegrationTable::SuggestTableSize(int scalarType,
+  const double range[2],
+  vtkVolumeTransferFunctionSampler* sampler,
+  int minimumSize,
+  int maximumSize,
   double entriesPerFeature)
 {
   const double width = range[1] - range[0];

@@ -100,8 +100,11 @@ public:
    * entries across the narrowest feature. Clamped to [MinimumSize, MaximumSize]. The sampler
    * must be prepared.
    */
-  static int SuggestTableSize(int scalarType, const double range[2],
-    vtkVolumeTransferFunctionSampler* sampler, int minimumSize, int maximumSize,
+  static int SuggestTableSize(int scalarType,
+    const double range[2],
+    vtkVolumeTransferFunctionSampler* sampler,
+    int minimumSize,
+    int maximumSize,
     double entriesPerFeature = 4.0);
 
 protected:

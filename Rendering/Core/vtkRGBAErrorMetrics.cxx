@@ -51,17 +51,18 @@ int vtkRGBAErrorMetrics::FillInputPortInformation(int port, vtkInformation* info
 }
 
 //------------------------------------------------------------------------------
-int vtkRGBAErrorMetrics::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkRGBAErrorMetrics::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
-  vtkDataObject::SetPointDataActiveScalarInfo(
-    outputVector->GetInformationObject(0), VTK_FLOAT, 4);
+  vtkDataObject::SetPointDataActiveScalarInfo(outputVector->GetInformationObject(0), VTK_FLOAT, 4);
   return 1;
 }
 
 //------------------------------------------------------------------------------
-int vtkRGBAErrorMetrics::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkRGBAErrorMetrics::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   this->RMSE = this->MaximumError = -1.0;
   std::fill(this->ChannelRMSE, this->ChannelRMSE + 4, -1.0);
@@ -87,8 +88,7 @@ int vtkRGBAErrorMetrics::RequestData(
   vtkDataArray* b = reference->GetPointData()->GetArray(this->ArrayName);
   if (!a || !b || a->GetNumberOfComponents() != 4 || b->GetNumberOfComponents() != 4)
   {
-    vtkErrorMacro("Both images need a 4-component point array named '" << this->ArrayName
-                                                                        << "'.");
+    vtkErrorMacro("Both images need a 4-component point array named '" << this->ArrayName << "'.");
     return 1;
   }
   const vtkIdType n = a->GetNumberOfTuples();

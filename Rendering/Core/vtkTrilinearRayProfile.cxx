@@ -18,8 +18,8 @@ void vtkTrilinearRayProfile::Set(const double f[8], const double u0[3], const do
   const double bxyz = f[7] - f[3] - f[5] - f[6] + f[1] + f[2] + f[4] - f[0];
   const double x = u0[0], y = u0[1], z = u0[2];
   const double X = v[0], Y = v[1], Z = v[2];
-  this->C[0] = a + bx * x + by * y + bz * z + bxy * x * y + byz * y * z + bxz * x * z +
-    bxyz * x * y * z;
+  this->C[0] =
+    a + bx * x + by * y + bz * z + bxy * x * y + byz * y * z + bxz * x * z + bxyz * x * y * z;
   this->C[1] = bx * X + by * Y + bz * Z + bxy * (x * Y + y * X) + byz * (y * Z + z * Y) +
     bxz * (x * Z + z * X) + bxyz * (x * y * Z + x * z * Y + y * z * X);
   this->C[2] = bxy * X * Y + byz * Y * Z + bxz * X * Z + bxyz * (x * Y * Z + y * X * Z + z * X * Y);

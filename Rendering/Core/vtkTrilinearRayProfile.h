@@ -24,7 +24,10 @@ public:
   /**
    * s(t).
    */
-  double Evaluate(double t) const { return ((this->C[3] * t + this->C[2]) * t + this->C[1]) * t + this->C[0]; }
+  double Evaluate(double t) const
+  {
+    return ((this->C[3] * t + this->C[2]) * t + this->C[1]) * t + this->C[0];
+  }
 
   /**
    * ds/dt at t.

@@ -49,8 +49,12 @@ public:
   float* Output;
   vtkSMPThreadLocal<vtkIdType> Samples;
 
-  RayCaster(const VolumeGrid& grid, const vtkCameraRayModel* rays,
-    const vtkVolumeTransferFunctionSampler* sampler, double scalarStep, double cutoff, int width,
+  RayCaster(const VolumeGrid& grid,
+    const vtkCameraRayModel* rays,
+    const vtkVolumeTransferFunctionSampler* sampler,
+    double scalarStep,
+    double cutoff,
+    int width,
     float* output)
     : Grid(grid)
     , Rays(rays)
@@ -69,8 +73,8 @@ public:
     for (vtkIdType p = begin; p < end; ++p)
     {
       double rgba[4];
-      samples += this->CastRay(static_cast<int>(p % this->Width),
-        static_cast<int>(p / this->Width), rgba);
+      samples +=
+        this->CastRay(static_cast<int>(p % this->Width), static_cast<int>(p / this->Width), rgba);
       std::copy(rgba, rgba + 4, this->Output + 4 * p);
     }
   }
@@ -84,8 +88,8 @@ public:
     const double* m = this->Grid.PhysicalToIndex;
     for (int r = 0; r < 3; ++r)
     {
-      o[r] = m[4 * r] * origin[0] + m[4 * r + 1] * origin[1] + m[4 * r + 2] * origin[2] +
-        m[4 * r + 3];
+      o[r] =
+        m[4 * r] * origin[0] + m[4 * r + 1] * origin[1] + m[4 * r + 2] * origin[2] + m[4 * r + 3];
       v[r] = m[4 * r] * direction[0] + m[4 * r + 1] * direction[1] + m[4 * r + 2] * direction[2];
     }
     // Parallel rays start on the plane through the camera: volume behind it is not seen,
@@ -111,9 +115,14 @@ public:
         continue;
       }
       const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
-      const double corner[8] = { values[base], values[base + 1], values[base + sy],
-        values[base + sy + 1], values[base + sz], values[base + sz + 1],
-        values[base + sz + sy], values[base + sz + sy + 1] };
+      const double corner[8] = { values[base],
+        values[base + 1],
+        values[base + sy],
+        values[base + sy + 1],
+        values[base + sz],
+        values[base + sz + 1],
+        values[base + sz + sy],
+        values[base + sz + sy + 1] };
       if (std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); }))
       {
         continue; // NaN anywhere in the cell makes the interpolant NaN: transparent.
@@ -230,8 +239,9 @@ int vtkVolumeReferenceIntegrator::FillInputPortInformation(int, vtkInformation* 
 }
 
 //------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkVolumeReferenceIntegrator::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int* size = this->RayModel->GetImageSize();
@@ -245,19 +255,22 @@ int vtkVolumeReferenceIntegrator::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+int vtkVolumeReferenceIntegrator::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector*)
 {
   // Every ray may cross the whole volume.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
+    6);
   return 1;
 }
 
 //------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   this->NumberOfSamples = 0;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
@@ -316,7 +329,8 @@ int vtkVolumeReferenceIntegrator::RequestData(
   // World point -> absolute structured index -> 0-based grid index.
   const int* extent = input->GetExtent();
   std::copy(input->GetPhysicalToIndexMatrix()->GetData(),
-    input->GetPhysicalToIndexMatrix()->GetData() + 16, grid.PhysicalToIndex);
+    input->GetPhysicalToIndexMatrix()->GetData() + 16,
+    grid.PhysicalToIndex);
   for (int r = 0; r < 3; ++r)
   {
     grid.PhysicalToIndex[4 * r + 3] -= extent[2 * r];
@@ -330,8 +344,13 @@ int vtkVolumeReferenceIntegrator::RequestData(
   {
     feature = 1.0; // flat data or a constant transfer function: every piece is exact
   }
-  RayCaster caster(grid, this->RayModel, this->Sampler, this->ScalarTolerance * feature,
-    this->TransmittanceCutoff, width, rgba->GetPointer(0));
+  RayCaster caster(grid,
+    this->RayModel,
+    this->Sampler,
+    this->ScalarTolerance * feature,
+    this->TransmittanceCutoff,
+    width,
+    rgba->GetPointer(0));
 
   // Rows in chunks so progress and abort requests are handled on this thread.
   const int chunks = std::min(height, 20);

@@ -91,8 +91,8 @@ public:
 
   /**
    * Check the settings and copy the nodes for evaluation. Returns false and reports an error
-   * if a function is missing or empty or the unit distance is not positive (or not finite). Cheap when
-   * nothing changed since the last call.
+   * if a function is missing or empty or the unit distance is not positive (or not finite). Cheap
+   * when nothing changed since the last call.
    */
   bool Prepare();
 

@@ -21,14 +21,19 @@ public:
 
   void Render(const vtkRenderState*) override {}
 
-  bool PreReplaceShaderValues(std::string& vertexShader, std::string&, std::string& fragmentShader,
-    vtkAbstractMapper*, vtkProp* prop) override
+  bool PreReplaceShaderValues(std::string& vertexShader,
+    std::string&,
+    std::string& fragmentShader,
+    vtkAbstractMapper*,
+    vtkProp* prop) override
   {
     return this->Mapper->ReplaceExtensionShaderValues(
       vertexShader, fragmentShader, vtkVolume::SafeDownCast(prop));
   }
 
-  bool SetShaderParameters(vtkShaderProgram* program, vtkAbstractMapper*, vtkProp* prop,
+  bool SetShaderParameters(vtkShaderProgram* program,
+    vtkAbstractMapper*,
+    vtkProp* prop,
     vtkOpenGLVertexArrayObject*) override
   {
     this->Mapper->SetExtensionShaderParameters(program, vtkVolume::SafeDownCast(prop));
@@ -60,9 +65,16 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
 }
 
 //------------------------------------------------------------------------------
-bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(
-  std::string& source, const std::string& tag, const std::string& code, bool keepTag)
+bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(std::string& source,
+  const std::string& tag,
+  const std::string& code,
+  bool keepTag)
 {
+  // Inserted code must not carry tags: a later replacement would hit the copy, not the template.
+  if (code.find("//VTK::") != std::string::npos)
+  {
+    return false;
+  }
   return vtkShaderProgram::Substitute(source, tag, keepTag ? code + "\n" + tag : code, false);
 }
 

@@ -50,10 +50,13 @@ public:
 
   /**
    * Replace one //VTK:: tag of a shader source, keeping the tag after the replacement when
-   * keepTag is true (so that VTK still substitutes it). Returns false when the tag is absent.
+   * keepTag is true (so that VTK still substitutes it). Returns false when the tag is absent
+   * or the code itself contains a //VTK:: tag (a later replacement would hit that copy).
    */
-  static bool ReplaceShaderTag(
-    std::string& source, const std::string& tag, const std::string& code, bool keepTag);
+  static bool ReplaceShaderTag(std::string& source,
+    const std::string& tag,
+    const std::string& code,
+    bool keepTag);
 
 protected:
   vtkExtensibleGPUVolumeRayCastMapper();
@@ -72,7 +75,8 @@ protected:
   virtual FramePlan PrepareExtension(vtkRenderer* ren, vtkVolume* vol) = 0;
   virtual void ActivateExtensionTextures() {}
   virtual void DeactivateExtensionTextures() {}
-  virtual bool ReplaceExtensionShaderValues(std::string& vertexShader, std::string& fragmentShader,
+  virtual bool ReplaceExtensionShaderValues(std::string& vertexShader,
+    std::string& fragmentShader,
     vtkVolume* vol) = 0;
   virtual void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume* vol) = 0;
   virtual void ReleaseExtensionResources(vtkWindow* window) { (void)window; }

@@ -49,8 +49,9 @@ void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
-  vtkDataArray* scalars, double& scale, double& shift)
+void vtkPreIntegrationVolumeMapper::GetTextureValueMapping(vtkDataArray* scalars,
+  double& scale,
+  double& shift)
 {
   // vtkVolumeTexture uploads 8- and 16-bit integers as normalised textures (signed ones with
   // SNORM, clamped at -1) and floats as they are; wider types become floats rescaled so that
@@ -88,8 +89,8 @@ void vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
 }
 
 //------------------------------------------------------------------------------
-const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(
-  vtkVolume* vol, vtkDataArray* scalars)
+const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
+  vtkDataArray* scalars)
 {
   vtkVolumeProperty* property = vol->GetProperty();
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
@@ -117,7 +118,8 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(
 
 //------------------------------------------------------------------------------
 vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::PrepareExtension(
-  vtkRenderer* ren, vtkVolume* vol)
+  vtkRenderer* ren,
+  vtkVolume* vol)
 {
   if (this->Integration == STOCK)
   {
@@ -131,9 +133,10 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   int cellFlag = 0;
-  vtkDataArray* scalars = input ? vtkAbstractMapper::GetScalars(input, this->ScalarMode,
-                                    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
-                                : nullptr;
+  vtkDataArray* scalars = input
+    ? vtkAbstractMapper::GetScalars(
+        input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+    : nullptr;
   if (!input || !scalars)
   {
     return DrawStock; // VTK reports the missing input or scalars itself.
@@ -180,8 +183,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
         scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
   if (maxSize > 0 && size > maxSize)
   {
-    vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize
-                                  << "; using " << maxSize << ".");
+    vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize << "; using "
+                                  << maxSize << ".");
     size = maxSize;
   }
   table->SetTableSize(size);
@@ -216,7 +219,8 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   this->TableTexture->SetInternalFormat(this->HalfFloatTable ? GL_RGBA16F : GL_RGBA32F);
   this->TableTexture->SetFormat(GL_RGBA);
   this->TableTexture->SetDataType(GL_FLOAT);
-  if (!this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, table->GetTable()->GetVoidPointer(0)))
+  if (!this->TableTexture->Create2DFromRaw(
+        n, n, 4, VTK_FLOAT, table->GetTable()->GetVoidPointer(0)))
   {
     vtkErrorMacro("Could not create the " << n << " x " << n << " table texture.");
     return false;
@@ -244,17 +248,22 @@ void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
 }
 
 //------------------------------------------------------------------------------
-bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(
-  std::string&, std::string& fragmentShader, vtkVolume*)
+bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
+  std::string& fragmentShader,
+  vtkVolume*)
 {
   using Self = vtkExtensibleGPUVolumeRayCastMapper;
   // The early-termination threshold becomes a uniform (VTK declares a constant here).
-  bool ok = Self::ReplaceShaderTag(fragmentShader, "//VTK::Termination::Dec",
+  bool ok = Self::ReplaceShaderTag(fragmentShader,
+    "//VTK::Termination::Dec",
     "uniform float hovr_opacityThreshold;\n#define g_opacityThreshold hovr_opacityThreshold",
     false);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
-  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
+  ok = ok &&
+    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
+  ok = ok &&
+    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
+  ok = ok &&
+    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
   // Declared late, after every uniform and global the functions use.
   ok = ok &&
     Self::ReplaceShaderTag(
@@ -267,8 +276,8 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(
-  vtkShaderProgram* program, vtkVolume*)
+void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* program,
+  vtkVolume*)
 {
   program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);

@@ -110,8 +110,9 @@ protected:
   FramePlan PrepareExtension(vtkRenderer* ren, vtkVolume* vol) override;
   void ActivateExtensionTextures() override;
   void DeactivateExtensionTextures() override;
-  bool ReplaceExtensionShaderValues(
-    std::string& vertexShader, std::string& fragmentShader, vtkVolume* vol) override;
+  bool ReplaceExtensionShaderValues(std::string& vertexShader,
+    std::string& fragmentShader,
+    vtkVolume* vol) override;
   void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume* vol) override;
   void ReleaseExtensionResources(vtkWindow* window) override;
 

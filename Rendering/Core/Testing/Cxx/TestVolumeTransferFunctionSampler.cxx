@@ -29,7 +29,8 @@ int TestVolumeTransferFunctionSampler(int, char*[])
   // Random functions with midpoints and sharpness: evaluation must match VTK's own to 1e-12.
   vtkNew<vtkMinimalStandardRandomSequence> random;
   random->SetSeed(7);
-  auto next = [&]() {
+  auto next = [&]()
+  {
     random->Next();
     return random->GetValue();
   };
@@ -73,7 +74,8 @@ int TestVolumeTransferFunctionSampler(int, char*[])
       double brute = 0.0;
       for (int k = 0; k <= 2000; ++k)
       {
-        brute = std::max(brute, sampler->EvaluateOpacity(std::min(a, b) + std::abs(b - a) * k / 2000.0));
+        brute =
+          std::max(brute, sampler->EvaluateOpacity(std::min(a, b) + std::abs(b - a) * k / 2000.0));
       }
       Check(sampler->GetMaximumOpacity(a, b) >= brute - 1e-15, "maximum opacity bounds samples");
     }
