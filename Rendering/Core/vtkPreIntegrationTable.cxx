@@ -13,6 +13,7 @@
 vtkPreIntegrationTable::vtkPreIntegrationTable()
   : Sampler(vtkVolumeTransferFunctionSampler::New())
   , Table(vtkFloatArray::New())
+  , EmptyRuns(vtkFloatArray::New())
 {
   this->Table->SetNumberOfComponents(4);
   this->Table->SetName("PreIntegrationTable");
@@ -24,6 +25,7 @@ vtkPreIntegrationTable::~vtkPreIntegrationTable()
 {
   this->Sampler->Delete();
   this->Table->Delete();
+  this->EmptyRuns->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -71,10 +73,33 @@ bool vtkPreIntegrationTable::Update()
   const double start = vtkTimerLog::GetUniversalTime();
   this->Table->SetNumberOfTuples(entries);
   this->BuildTable();
+  this->BuildEmptyRuns();
   this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;
   this->BuildCount++;
   this->BuildMTime = mtime;
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTable::BuildEmptyRuns()
+{
+  const int n = this->TableSize;
+  const double spacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (n - 1);
+  this->EmptyRuns->SetNumberOfTuples(n - 1);
+  int run = -1;
+  bool inRun = false;
+  for (int b = 0; b < n - 1; ++b)
+  {
+    const double s0 = this->ScalarRange[0] + b * spacing;
+    // Exact: VTK's interpolation is monotone between nodes.
+    const bool empty = this->Sampler->GetMaximumOpacity(s0, s0 + spacing) <= 0.0;
+    if (empty && !inRun)
+    {
+      ++run;
+    }
+    inRun = empty;
+    this->EmptyRuns->SetValue(b, empty ? static_cast<float>(run) : -1.0f);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -79,6 +79,16 @@ public:
   vtkFloatArray* GetTable() { return this->Table; }
 
   /**
+   * Zero-opacity runs, for skipping empty segments: value b (b = 0 .. TableSize - 2) belongs to
+   * the table spacing [entry b, entry b + 1]; it is -1 when the opacity is positive somewhere
+   * in that spacing, otherwise the index of the run of consecutive zero-opacity spacings it
+   * belongs to. A segment whose end scalars both lie in spacings of the same run has zero
+   * opacity everywhere (the scalar stays between them) and contributes nothing. Valid after
+   * Update().
+   */
+  vtkFloatArray* GetEmptyRuns() { return this->EmptyRuns; }
+
+  /**
    * Number of table dimensions (2 or 3).
    */
   virtual int GetNumberOfDimensions() const = 0;
@@ -117,8 +127,12 @@ protected:
    */
   virtual void BuildTable() = 0;
 
+  // Fills EmptyRuns from the prepared sampler.
+  void BuildEmptyRuns();
+
   vtkVolumeTransferFunctionSampler* Sampler;
   vtkFloatArray* Table;
+  vtkFloatArray* EmptyRuns;
   double SegmentLength = 1.0;
   double ScalarRange[2] = { 0.0, 255.0 };
   int TableSize = 256;

@@ -26,6 +26,7 @@ vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
   , TableTexture(vtkTextureObject::New())
+  , EmptyRunsTexture(vtkTextureObject::New())
 {
 }
 
@@ -34,6 +35,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 {
   this->FirstOrderTable->Delete();
   this->TableTexture->Delete();
+  this->EmptyRunsTexture->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -229,9 +231,23 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   this->TableTexture->SetWrapT(vtkTextureObject::ClampToEdge);
   this->TableTexture->SetMinificationFilter(vtkTextureObject::Linear);
   this->TableTexture->SetMagnificationFilter(vtkTextureObject::Linear);
+  // The zero-opacity runs of the table spacings, read with texelFetch.
+  this->EmptyRunsTexture->SetContext(context);
+  this->EmptyRunsTexture->SetInternalFormat(GL_R32F);
+  this->EmptyRunsTexture->SetFormat(GL_RED);
+  this->EmptyRunsTexture->SetDataType(GL_FLOAT);
+  if (!this->EmptyRunsTexture->Create2DFromRaw(
+        n - 1, 1, 1, VTK_FLOAT, table->GetEmptyRuns()->GetVoidPointer(0)))
+  {
+    vtkErrorMacro("Could not create the empty-run texture.");
+    return false;
+  }
+  this->EmptyRunsTexture->SetMinificationFilter(vtkTextureObject::Nearest);
+  this->EmptyRunsTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
   this->UploadedBuildCount = table->GetBuildCount();
   this->UploadedHalfFloat = this->HalfFloatTable;
-  this->TableTextureMemorySize = static_cast<vtkIdType>(n) * n * 4 * (this->HalfFloatTable ? 2 : 4);
+  this->TableTextureMemorySize =
+    static_cast<vtkIdType>(n) * n * 4 * (this->HalfFloatTable ? 2 : 4) + (n - 1) * 4;
   return true;
 }
 
@@ -239,12 +255,14 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
 void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
 {
   this->TableTexture->Activate();
+  this->EmptyRunsTexture->Activate();
 }
 
 //------------------------------------------------------------------------------
 void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
 {
   this->TableTexture->Deactivate();
+  this->EmptyRunsTexture->Deactivate();
 }
 
 //------------------------------------------------------------------------------
@@ -280,6 +298,8 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
   vtkVolume*)
 {
   program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
+  program->SetUniformi("hovr_emptyRuns", this->EmptyRunsTexture->GetTextureUnit());
+  program->SetUniformi("hovr_tableSize", this->FirstOrderTable->GetTableSize());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
 }
@@ -288,6 +308,7 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
 void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
+  this->EmptyRunsTexture->ReleaseGraphicsResources(window);
   this->UploadedBuildCount = -1;
   this->TableTextureMemorySize = 0;
 }

@@ -127,6 +127,7 @@ protected:
 
   vtkFirstOrderPreIntegrationTable* FirstOrderTable;
   vtkTextureObject* TableTexture;
+  vtkTextureObject* EmptyRunsTexture;
   int UploadedBuildCount = -1;
   bool UploadedHalfFloat = false;
   vtkIdType TableTextureMemorySize = 0;

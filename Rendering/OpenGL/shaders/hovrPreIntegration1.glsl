@@ -10,15 +10,26 @@
 // hovr_preintExit where VTK's shading code would initialise, sample and finish a ray.
 
 uniform sampler2D hovr_preintTable;
+// Zero-opacity run of each table spacing (-1: some opacity), read with texelFetch.
+uniform sampler2D hovr_emptyRuns;
+uniform int hovr_tableSize;
 // Table texture coordinate of a raw texture value: raw * x + y.
 uniform vec2 hovr_rawToTable;
 
-float hovr_sFront;   // table coordinate of the previous sample
-vec3 hovr_entry;     // where the ray entered the volume (texture coordinates)
+float hovr_sFront;    // table coordinate of the previous sample
+float hovr_runFront;  // its zero-opacity run
+float hovr_fraction;  // the next segment's length in sample distances (1 inside the ray)
+vec3 hovr_entry;      // where the ray entered the volume (texture coordinates)
 
 float hovr_tableCoord(vec3 pos)
 {
   return texture(in_volume[0], pos).r * hovr_rawToTable.x + hovr_rawToTable.y;
+}
+
+float hovr_emptyRun(float coord)
+{
+  int spacing = clamp(int(floor(coord * float(hovr_tableSize) - 0.5)), 0, hovr_tableSize - 2);
+  return texelFetch(hovr_emptyRuns, ivec2(spacing, 0), 0).r;
 }
 
 // Steps (in units of g_dirStep) from pos to where the ray leaves the volume's box.
@@ -59,33 +70,32 @@ void hovr_preintInit()
 {
   hovr_entry = g_dataPos - g_rayJitter;
   hovr_sFront = hovr_tableCoord(hovr_entry);
+  hovr_runFront = hovr_emptyRun(hovr_sFront);
+  // From the entry to the first sample: one jitter offset, unless the box ends first; then
+  // that shorter segment is all there is before the first sample.
+  hovr_fraction = length(g_rayJitter) / length(g_dirStep);
+  float inside = hovr_stepsToExit(hovr_entry);
+  if (inside < hovr_fraction)
+  {
+    hovr_compositeSegment(
+      hovr_sFront, hovr_tableCoord(hovr_entry + inside * g_dirStep), max(inside, 0.0));
+    hovr_fraction = 0.0;
+  }
 }
 
 void hovr_preintStep()
 {
   float sBack = hovr_tableCoord(g_dataPos);
-  if (!g_skip)
+  float runBack = hovr_emptyRun(sBack);
+  // Both ends in one zero-opacity run: the segment is empty, no table fetch.
+  if (!g_skip && (runBack < 0.0 || runBack != hovr_runFront))
   {
-    float fraction;
-    if (g_currentT == 0.0)
-    {
-      // From the entry to the first sample: one jitter offset, unless the box ends first.
-      fraction = length(g_rayJitter) / length(g_dirStep);
-      float inside = hovr_stepsToExit(hovr_entry);
-      if (inside < fraction)
-      {
-        fraction = inside;
-        sBack = hovr_tableCoord(hovr_entry + inside * g_dirStep);
-      }
-    }
-    else
-    {
-      // Segments past a termination point (depth buffer, clipping) count only up to it.
-      fraction = clamp(g_terminatePointMax - (g_currentT - 1.0), 0.0, 1.0);
-    }
-    hovr_compositeSegment(hovr_sFront, sBack, fraction);
+    hovr_compositeSegment(hovr_sFront, sBack, hovr_fraction);
   }
   hovr_sFront = sBack;
+  hovr_runFront = runBack;
+  // The next segment counts only up to a termination point (depth buffer, clipping).
+  hovr_fraction = clamp(g_terminatePointMax - g_currentT, 0.0, 1.0);
 }
 
 void hovr_preintExit()

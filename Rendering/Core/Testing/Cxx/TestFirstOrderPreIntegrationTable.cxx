@@ -483,6 +483,51 @@ int TestFirstOrderPreIntegrationTable(int, char*[])
     check(size == 16, "an empty data range gives the minimum, got " + std::to_string(size));
   }
 
+  //----------------------------------------------------------------------------
+  // Empty runs: spacings with opacity are -1, zero-opacity spacings are numbered by run, and
+  // a segment with both ends in one run is exactly empty in the table.
+  {
+    vtkNew<vtkColorTransferFunction> color;
+    color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
+    vtkNew<vtkPiecewiseFunction> opacity;
+    opacity->AddPoint(0.0, 0.0);
+    opacity->AddPoint(3.5, 0.0);
+    opacity->AddPoint(4.0, 0.8); // spacings [3, 4] and [4, 5] have opacity
+    opacity->AddPoint(4.5, 0.0);
+    opacity->AddPoint(7.0, 0.0);
+    opacity->AddPoint(8.0, 0.5); // from 7 on: spacings [7, 8], [8, 9], [9, 10]
+    vtkNew<vtkVolumeProperty> property;
+    property->SetColor(color);
+    property->SetScalarOpacity(opacity);
+    vtkNew<vtkFirstOrderPreIntegrationTable> table;
+    table->SetVolumeProperty(property);
+    table->SetScalarRange(0.0, 10.0);
+    table->SetTableSize(11);
+    check(table->Update(), "Update for empty runs");
+    const float expected[10] = { 0, 0, 0, -1, -1, 1, 1, -1, -1, -1 };
+    vtkFloatArray* runs = table->GetEmptyRuns();
+    check(runs->GetNumberOfTuples() == 10, "one run value per table spacing");
+    for (int b = 0; b < 10 && runs->GetNumberOfTuples() == 10; ++b)
+    {
+      check(runs->GetValue(b) == expected[b],
+        "run of spacing " + std::to_string(b) + " is " + std::to_string(expected[b]) + ", got " +
+          std::to_string(runs->GetValue(b)));
+    }
+    for (int i = 0; i < 11; ++i)
+    {
+      for (int j = 0; j < 11; ++j)
+      {
+        const int bi = std::min(i, 9), bj = std::min(j, 9);
+        if (expected[bi] >= 0 && expected[bi] == expected[bj])
+        {
+          double rgba[4];
+          table->GetEntry(i, j, rgba);
+          check(rgba[3] == 0.0 && rgba[0] == 0.0, "a segment inside one empty run is empty");
+        }
+      }
+    }
+  }
+
   messages.ExpectNone(check, "at the end of the test");
   return check.Result("TestFirstOrderPreIntegrationTable");
 }
