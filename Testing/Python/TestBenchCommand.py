@@ -65,5 +65,5 @@ with open(broken, "w") as stream:
 code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
 c.check("unknown method" in stderr, "unknown method in a configuration is reported")
 code, stdout, stderr = run_cli("bench", os.path.join(tmp, "none.json"), expect=2)
-c.check("cannot read bench configuration" in stderr, "missing configuration is reported")
+c.check("bench configuration file not found" in stderr, "missing configuration is reported")
 c.finish()

@@ -9,27 +9,20 @@ a baseline is made (look at it before committing it).
 """
 
 import os
-import sys
 
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOImage import vtkPNGReader
 
-import hovr
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, ROOT, tf_path
+from hovrtesting import Checker, ROOT, marschner_lobb_scene
 
 c = Checker()
 baselines = os.path.join(ROOT, "Testing", "Data", "Baseline")
 out_dir = os.path.join(os.environ.get("HOVR_BUILD", "."), "Testing", "Temporary")
 os.makedirs(out_dir, exist_ok=True)
-source = hovr.vtkMarschnerLobbSource()
-source.SetDimensions(41, 41, 41)
-source.Update()
-color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
-scene = hm.Scene(source.GetOutput(), hio.make_volume_property(color, opacity, 0.05),
-                 hio.default_camera(source.GetOutput().GetBounds()), (128, 128))
+scene = marschner_lobb_scene((128, 128))
 renderer = hm.Renderer()
 for method in sorted(hm.METHODS):
     result = renderer.render(method, scene, 1.0)

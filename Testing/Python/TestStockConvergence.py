@@ -2,18 +2,11 @@
 does first-order pre-integration, faster: the GPU rays, texture coordinates and compositing
 match the reference's semantics (README, "hovr render" contract)."""
 
-from hovr import io as hio
 from hovr import methods as hm
-import hovr
-from hovrtesting import Checker, tf_path
+from hovrtesting import Checker, marschner_lobb_scene
 
 c = Checker()
-source = hovr.vtkMarschnerLobbSource()
-source.SetDimensions(41, 41, 41)
-source.Update()
-color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
-scene = hm.Scene(source.GetOutput(), hio.make_volume_property(color, opacity, 0.05),
-                 hio.default_camera(source.GetOutput().GetBounds()), (96, 96))
+scene = marschner_lobb_scene((96, 96))
 renderer = hm.Renderer()
 reference = renderer.render("reference", scene, 1.0).image
 steps = [1.0, 0.5, 0.25, 0.125]

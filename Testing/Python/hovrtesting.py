@@ -25,6 +25,20 @@ def tf_path(name):
     return os.path.join(PRESETS, "transfer-functions", name + ".json")
 
 
+def marschner_lobb_scene(size, points=41):
+    """The scene most tests share: the Marschner-Lobb volume, the narrow-spike transfer
+    function (unit distance 0.05) and the default oblique camera."""
+    import hovr
+    from hovr import io as hio
+    from hovr import methods as hm
+    source = hovr.vtkMarschnerLobbSource()
+    source.SetDimensions(points, points, points)
+    source.Update()
+    color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
+    return hm.Scene(source.GetOutput(), hio.make_volume_property(color, opacity, 0.05),
+                    hio.default_camera(source.GetOutput().GetBounds()), size)
+
+
 def run_cli(*args, expect=0):
     """Run ``python3 -m hovr.cli`` and return (exit code, stdout, stderr)."""
     process = subprocess.run([sys.executable, "-m", "hovr.cli"] + [str(a) for a in args],

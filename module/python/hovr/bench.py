@@ -79,11 +79,7 @@ def load_volume(spec, base=None):
 
 
 def load_config(path):
-    try:
-        with open(path, "r", encoding="utf-8") as stream:
-            config = json.load(stream)
-    except (OSError, ValueError) as error:
-        raise HovrError("cannot read bench configuration %s: %s" % (path, error)) from None
+    config = hio.read_json(path, "bench configuration")
     if not isinstance(config, dict) or not isinstance(config.get("datasets"), list):
         raise HovrError("%s: a bench configuration is an object with a 'datasets' list" % path)
     for name in config.get("methods", []):

@@ -175,6 +175,17 @@ def count_nan(array):
     return int(numpy.isnan(vtk_to_numpy(array)).sum())
 
 
+def read_json(path, what):
+    """The JSON document of a file, or a HovrError naming ``what`` the file should hold."""
+    if not os.path.isfile(path):
+        raise HovrError("%s file not found: %s" % (what, path))
+    try:
+        with open(path, "r", encoding="utf-8") as stream:
+            return json.load(stream)
+    except (OSError, ValueError) as error:
+        raise HovrError("cannot read %s %s: %s" % (what, path, error)) from None
+
+
 def read_transfer_function(path):
     """Read a ParaView transfer-function preset (an object or a list of them).
 
@@ -182,14 +193,7 @@ def read_transfer_function(path):
     has both ``RGBPoints`` [x, r, g, b, ...] and ``Points`` [x, alpha, midpoint, sharpness,
     ...]. Colours are interpolated in RGB; values outside the points take the end values.
     """
-    if not os.path.isfile(path):
-        raise HovrError("transfer function file not found: %s" % path)
-    try:
-        with open(path, "r", encoding="utf-8") as stream:
-            document = json.load(stream)
-    except (OSError, ValueError) as error:
-        raise HovrError("cannot read transfer function %s: %s" % (path, error)) from None
-    return transfer_function_from_preset(document, path)
+    return transfer_function_from_preset(read_json(path, "transfer function"), path)
 
 
 def transfer_function_from_preset(document, origin="preset"):
@@ -284,13 +288,7 @@ def camera_from_dict(values, origin="camera"):
 
 
 def read_camera(path):
-    if not os.path.isfile(path):
-        raise HovrError("camera file not found: %s" % path)
-    try:
-        with open(path, "r", encoding="utf-8") as stream:
-            values = json.load(stream)
-    except (OSError, ValueError) as error:
-        raise HovrError("cannot read camera %s: %s" % (path, error)) from None
+    values = read_json(path, "camera")
     if not isinstance(values, dict):
         raise HovrError("%s: a camera is a JSON object" % path)
     return camera_from_dict(values, path)
