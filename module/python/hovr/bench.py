@@ -23,7 +23,10 @@ Paths are relative to the configuration file; ``${HOVR_DATA}`` is the shared tes
 ``${HOVR_ROOT}`` the project. A dataset marked optional whose input is missing is skipped with
 a message. Per-dataset entries may override "methods" and "steps".
 
-Every image is compared with the reference integrator's (cached under ``cache/``). Written
+GPU runs of a dataset are timed in interleaved rounds (one frame of each method and step per
+round), so that load changes on a shared machine hit them alike and the time ratios to the
+stock mapper stay meaningful. Every image is compared with the reference integrator's
+(cached under ``cache/``). Written
 to the output folder: ``results.csv`` (one row per dataset, method and step), ``images/``
 (renderings and 10x difference images), ``tradeoff.png`` (error against time per frame) and
 ``summary.txt``.
@@ -147,21 +150,26 @@ def run(config_path, output, log=print, renderer=None):
                                                   size), log)
             hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
             dataset_rows = []
-            for method in spec.get("methods", config.get("methods", ["stock", "preint1"])):
-                steps = spec.get("steps", config.get("steps", [1]))
-                for step in (steps if method != "reference" else [min(steps)]):
-                    result = renderer.render(method, scene, step, repeat)
-                    errors, difference = hm.compare(result.image, reference)
-                    row = result.summary(method, step)
-                    row.update(errors)
-                    row["dataset"] = name
-                    dataset_rows.append(row)
-                    stem = "%s_%s_step%g" % (name, method, step)
-                    hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
-                    hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
-                                    array="Difference", scale=10.0)
-                    log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f" % (
-                        name, method, step, row["median_ms"], row["rmse"], row["max_error"]))
+            steps = spec.get("steps", config.get("steps", [1]))
+            names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
+            runs = [(hm.get_method(n), step) for n in names for step in steps
+                    if hm.get_method(n).kind == "gpu"]
+            results = renderer.render_interleaved(runs, scene, repeat) if runs else []
+            if "reference" in names:
+                runs.append((hm.get_method("reference"), min(steps)))
+                results.append(renderer.render("reference", scene, min(steps), repeat))
+            for (method, step), result in zip(runs, results):
+                errors, difference = hm.compare(result.image, reference)
+                row = result.summary(method.name, step)
+                row.update(errors)
+                row["dataset"] = name
+                dataset_rows.append(row)
+                stem = "%s_%s_step%g" % (name, method.name, step)
+                hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
+                hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
+                                array="Difference", scale=10.0)
+                log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f" % (
+                    name, method.name, step, row["median_ms"], row["rmse"], row["max_error"]))
             _add_ratios(dataset_rows)
             rows.extend(dataset_rows)
     finally:

@@ -179,10 +179,72 @@ class Renderer:
         timed frames; the image is the last frame's.
         """
         method = get_method(method) if isinstance(method, str) else method
-        step_length = scene.step_length(step)
         if method.kind == "cpu":
+            scene.step_length(step)  # validates the step
             return self._render_reference(scene, repeat)
-        return self._render_gpu(method, scene, step_length, repeat)
+        return self.render_interleaved([(method, step)], scene, repeat)[0]
+
+    def render_interleaved(self, runs, scene, repeat=0):
+        """Render ``scene`` with several GPU (method, step) runs, timing them in interleaved
+        rounds (one frame of each run per round) so that a change of machine load affects all
+        of them alike and their time ratios stay meaningful. Returns one RenderResult per run.
+        """
+        runs = [(get_method(m) if isinstance(m, str) else m, step) for m, step in runs]
+        self._ensure_window(scene.size)
+        renderer = self._renderer
+        renderer.RemoveAllViewProps()
+        renderer.GetActiveCamera().DeepCopy(scene.camera)
+        volumes, mappers = [], []
+        for method, step in runs:
+            if method.kind != "gpu":
+                raise HovrError("%s is not a GPU method" % method.name)
+            mapper = method.make_mapper()
+            mapper.SetInputData(scene.image)
+            mapper.SetSampleDistance(scene.step_length(step))
+            volume = vtkVolume()
+            volume.SetMapper(mapper)
+            volume.SetProperty(scene.prop)
+            volume.SetVisibility(0)
+            renderer.AddVolume(volume)  # hidden volumes keep their GPU resources
+            volumes.append(volume)
+            mappers.append(mapper)
+        renderer.ResetCameraClippingRange(scene.image.GetBounds())
+        errors = _Errors(self._window, *mappers)
+
+        def frame(index):
+            for other, volume in enumerate(volumes):
+                volume.SetVisibility(other == index)
+            start = time.perf_counter()
+            self._window.Render()
+            self._window.WaitForCompletion()
+            return 1000.0 * (time.perf_counter() - start)
+
+        results = []
+        try:
+            for index in range(len(runs)):
+                frame(index)  # warm-up: shaders, uploads, tables
+            times = [[] for _ in runs]
+            for _ in range(max(repeat, 0)):
+                for index in range(len(runs)):
+                    times[index].append(frame(index))
+            rays = core.vtkCameraRayModel()
+            rays.SetCamera(scene.camera)
+            rays.SetImageSize(*scene.size)
+            rays_ok = rays.Prepare()
+            for index, (method, step) in enumerate(runs):
+                frame(index)
+                image = vtkImageData()
+                capture_errors = _Errors(self._capture)
+                self._capture.Capture(image)
+                capture_errors.close()
+                samples = rays.CountFixedStepSamples(scene.image, scene.step_length(step)) \
+                    if rays_ok else None
+                results.append(RenderResult(image, times[index], samples,
+                                            method.statistics(mappers[index])))
+        finally:
+            renderer.RemoveAllViewProps()
+            errors.close()
+        return results
 
     def _render_reference(self, scene, repeat):
         integrator = core.vtkVolumeReferenceIntegrator()
@@ -202,46 +264,6 @@ class Renderer:
         image.DeepCopy(integrator.GetOutput())
         return RenderResult(image, times[1:] if repeat > 0 else [],
                             integrator.GetNumberOfSamples())
-
-    def _render_gpu(self, method, scene, step_length, repeat):
-        self._ensure_window(scene.size)
-        mapper = method.make_mapper()
-        mapper.SetInputData(scene.image)
-        mapper.SetSampleDistance(step_length)
-        volume = vtkVolume()
-        volume.SetMapper(mapper)
-        volume.SetProperty(scene.prop)
-        renderer = self._renderer
-        renderer.RemoveAllViewProps()
-        renderer.AddVolume(volume)
-        camera = renderer.GetActiveCamera()
-        camera.DeepCopy(scene.camera)
-        renderer.ResetCameraClippingRange()
-        errors = _Errors(mapper, self._window)
-        try:
-            self._window.Render()
-            self._window.WaitForCompletion()
-            times = []
-            for _ in range(max(repeat, 0)):
-                start = time.perf_counter()
-                self._window.Render()
-                self._window.WaitForCompletion()
-                times.append(1000.0 * (time.perf_counter() - start))
-            statistics = method.statistics(mapper)
-        finally:
-            renderer.RemoveAllViewProps()
-            errors.close()
-        image = vtkImageData()
-        capture_errors = _Errors(self._capture)
-        self._capture.Capture(image)
-        capture_errors.close()
-        rays = core.vtkCameraRayModel()
-        rays.SetCamera(scene.camera)
-        rays.SetImageSize(*scene.size)
-        samples = rays.CountFixedStepSamples(scene.image, step_length) if rays.Prepare() else None
-        result = RenderResult(image, times, samples, statistics)
-        mapper.ReleaseGraphicsResources(self._window)
-        return result
 
     def close(self):
         if self._window is not None:
