@@ -108,15 +108,17 @@ int vtkPreIntegrationTable::SuggestTableSize(int scalarType,
   vtkVolumeTransferFunctionSampler* sampler,
   int minimumSize,
   int maximumSize,
-  double entriesPerFeature)
+  double entriesPerFeature,
+  bool opacityFeatures)
 {
   const double width = range[1] - range[0];
   if (!(width > 0.0) || !std::isfinite(width))
   {
     return std::max(2, minimumSize);
   }
-  const double feature = std::min(sampler->GetSmallestFeature(), width);
-  const bool integer = scalarType != VTK_FLOAT && scalarType != VTK_DOUBLE;
+  const double feature = std::min(
+    opacityFeatures ? sampler->GetSmallestOpacityFeature() : sampler->GetSmallestFeature(), width);
+  const bool integer = !opacityFeatures && scalarType != VTK_FLOAT && scalarType != VTK_DOUBLE;
   if (integer)
   {
     // Put entries on every integer value (lookups at voxel values are exact), subdivided

@@ -107,15 +107,17 @@ public:
    * integer value of the range (lookups at voxel values are then exact), subdivided when a
    * transfer-function feature is narrower than one unit or to reach MinimumSize. Float data,
    * or integer data whose range needs more than MaximumSize entries: EntriesPerFeature
-   * entries across the narrowest feature. Clamped to [MinimumSize, MaximumSize]. The sampler
-   * must be prepared.
+   * entries across the narrowest feature. Clamped to [MinimumSize, MaximumSize]. With
+   * opacityFeatures, only opacity nodes define features and the integer rule is not used
+   * (tables of integrated slabs need no entry per value). The sampler must be prepared.
    */
   static int SuggestTableSize(int scalarType,
     const double range[2],
     vtkVolumeTransferFunctionSampler* sampler,
     int minimumSize,
     int maximumSize,
-    double entriesPerFeature = 4.0);
+    double entriesPerFeature = 4.0,
+    bool opacityFeatures = false);
 
 protected:
   vtkPreIntegrationTable();

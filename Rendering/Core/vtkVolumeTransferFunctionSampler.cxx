@@ -75,6 +75,33 @@ inline void InterpolateNodes(const Node& a, const Node& b, double x, int n, doub
   }
 }
 
+// Smallest distance between adjacent distinct node positions of one or two node lists.
+double SmallestGap(const std::vector<Node>& a, const std::vector<Node>* b)
+{
+  std::vector<double> xs;
+  for (const Node& node : a)
+  {
+    xs.push_back(node.X);
+  }
+  if (b)
+  {
+    for (const Node& node : *b)
+    {
+      xs.push_back(node.X);
+    }
+  }
+  std::sort(xs.begin(), xs.end());
+  double smallest = VTK_DOUBLE_MAX;
+  for (size_t i = 1; i < xs.size(); ++i)
+  {
+    if (xs[i] > xs[i - 1])
+    {
+      smallest = std::min(smallest, xs[i] - xs[i - 1]);
+    }
+  }
+  return smallest;
+}
+
 // Evaluates a node list at x with clamping to the end values.
 inline void EvaluateNodes(const std::vector<Node>& nodes, double x, int n, double* out)
 {
@@ -277,25 +304,13 @@ double vtkVolumeTransferFunctionSampler::GetMaximumOpacity(double s0, double s1)
 //------------------------------------------------------------------------------
 double vtkVolumeTransferFunctionSampler::GetSmallestFeature() const
 {
-  std::vector<double> xs;
-  for (const Node& node : this->Internals->OpacityNodes)
-  {
-    xs.push_back(node.X);
-  }
-  for (const Node& node : this->Internals->ColorNodes)
-  {
-    xs.push_back(node.X);
-  }
-  std::sort(xs.begin(), xs.end());
-  double smallest = VTK_DOUBLE_MAX;
-  for (size_t i = 1; i < xs.size(); ++i)
-  {
-    if (xs[i] > xs[i - 1])
-    {
-      smallest = std::min(smallest, xs[i] - xs[i - 1]);
-    }
-  }
-  return smallest;
+  return SmallestGap(this->Internals->OpacityNodes, &this->Internals->ColorNodes);
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetSmallestOpacityFeature() const
+{
+  return SmallestGap(this->Internals->OpacityNodes, nullptr);
 }
 
 //------------------------------------------------------------------------------

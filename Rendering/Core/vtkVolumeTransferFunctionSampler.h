@@ -130,6 +130,12 @@ public:
   double GetSmallestFeature() const;
 
   /**
+   * The same for the nodes of the opacity function only: what integrated quantities (opacity,
+   * and colour weighted by it) vary with fastest.
+   */
+  double GetSmallestOpacityFeature() const;
+
+  /**
    * Scalar range spanned by the nodes of both functions.
    */
   void GetNodeRange(double range[2]) const;

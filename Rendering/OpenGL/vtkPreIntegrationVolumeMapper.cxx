@@ -8,6 +8,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
@@ -16,6 +17,7 @@
 #include "vtk_glew.h"
 
 #include "hovrPreIntegration1.h" // the GLSL of first-order pre-integration
+#include "hovrPreIntegration2.h" // the GLSL of second-order pre-integration
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +27,7 @@ vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 //------------------------------------------------------------------------------
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
+  , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
 {
@@ -34,6 +37,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
 vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 {
   this->FirstOrderTable->Delete();
+  this->SecondOrderTable->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
 }
@@ -41,13 +45,50 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 //------------------------------------------------------------------------------
 void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
 {
-  mode = std::min(std::max(mode, static_cast<int>(STOCK)), static_cast<int>(FIRST_ORDER));
+  mode = std::min(std::max(mode, static_cast<int>(STOCK)), static_cast<int>(SECOND_ORDER));
   if (mode != this->Integration)
   {
     this->Integration = mode;
     this->ExtensionShaderModified();
     this->Modified();
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetIterations(int iterations)
+{
+  if (iterations != this->SecondOrderTable->GetIterations())
+  {
+    this->SecondOrderTable->SetIterations(iterations);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationVolumeMapper::GetIterations()
+{
+  return this->SecondOrderTable->GetIterations();
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTable* vtkPreIntegrationVolumeMapper::GetActiveTable()
+{
+  if (this->Integration == FIRST_ORDER)
+  {
+    return this->FirstOrderTable;
+  }
+  return this->Integration == SECOND_ORDER ? this->SecondOrderTable : nullptr;
+}
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationVolumeMapper::GetEffectiveTablePrecision()
+{
+  if (this->TablePrecision != PRECISION_AUTOMATIC)
+  {
+    return this->TablePrecision;
+  }
+  // The 2D table is small; 16-bit floats halve the 3D table's memory (relative error 5e-4).
+  return this->Integration == SECOND_ORDER ? PRECISION_FLOAT16 : PRECISION_FLOAT32;
 }
 
 //------------------------------------------------------------------------------
@@ -168,9 +209,11 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     range[1] = range[0] + 1.0; // flat data: any non-empty range holds its one value
   }
-  vtkFirstOrderPreIntegrationTable* table = this->FirstOrderTable;
+  const bool secondOrder = this->Integration == SECOND_ORDER;
+  vtkPreIntegrationTable* table = this->GetActiveTable();
   table->SetVolumeProperty(vol->GetProperty());
-  table->SetSegmentLength(this->SampleDistance);
+  // A first-order segment spans one sample distance, a second-order slab two.
+  table->SetSegmentLength(secondOrder ? 2.0 * this->SampleDistance : this->SampleDistance);
   table->SetScalarRange(range);
   if (!table->GetSampler()->Prepare())
   {
@@ -178,11 +221,16 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     return DrawNothing;
   }
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  const int maxSize = vtkTextureObject::GetMaximumTextureSize(context);
-  int size = this->TableSize > 0
-    ? this->TableSize
-    : vtkPreIntegrationTable::SuggestTableSize(
-        scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
+  const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
+                                  : vtkTextureObject::GetMaximumTextureSize(context);
+  int size = this->TableSize;
+  if (size <= 0)
+  {
+    size = secondOrder ? vtkPreIntegrationTable::SuggestTableSize(
+                           scalars->GetDataType(), range, table->GetSampler(), 64, 256, 1.0, true)
+                       : vtkPreIntegrationTable::SuggestTableSize(
+                           scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
+  }
   if (maxSize > 0 && size > maxSize)
   {
     vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize << "; using "
@@ -209,26 +257,34 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
 {
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  vtkFirstOrderPreIntegrationTable* table = this->FirstOrderTable;
-  if (this->TableTexture->GetContext() == context &&
-    this->UploadedBuildCount == table->GetBuildCount() &&
-    this->UploadedHalfFloat == this->HalfFloatTable && this->TableTexture->GetHandle() != 0)
+  vtkPreIntegrationTable* table = this->GetActiveTable();
+  const int precision = this->GetEffectiveTablePrecision();
+  if (this->TableTexture->GetContext() == context && this->UploadedTable == table &&
+    this->UploadedBuildCount == table->GetBuildCount() && this->UploadedPrecision == precision &&
+    this->TableTexture->GetHandle() != 0)
   {
     return true;
   }
   const int n = table->GetTableSize();
+  const bool volume = table->GetNumberOfDimensions() == 3;
+  static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
+  static const int bytes[4] = { 4, 1, 2, 4 };
+  this->TableTexture->ReleaseGraphicsResources(context); // a 2D and a 3D table differ in target
   this->TableTexture->SetContext(context);
-  this->TableTexture->SetInternalFormat(this->HalfFloatTable ? GL_RGBA16F : GL_RGBA32F);
+  this->TableTexture->SetInternalFormat(formats[precision]);
   this->TableTexture->SetFormat(GL_RGBA);
   this->TableTexture->SetDataType(GL_FLOAT);
-  if (!this->TableTexture->Create2DFromRaw(
-        n, n, 4, VTK_FLOAT, table->GetTable()->GetVoidPointer(0)))
+  void* data = table->GetTable()->GetVoidPointer(0);
+  const bool created = volume ? this->TableTexture->Create3DFromRaw(n, n, n, 4, VTK_FLOAT, data)
+                              : this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, data);
+  if (!created)
   {
-    vtkErrorMacro("Could not create the " << n << " x " << n << " table texture.");
+    vtkErrorMacro("Could not create the " << n << "^" << (volume ? 3 : 2) << " table texture.");
     return false;
   }
   this->TableTexture->SetWrapS(vtkTextureObject::ClampToEdge);
   this->TableTexture->SetWrapT(vtkTextureObject::ClampToEdge);
+  this->TableTexture->SetWrapR(vtkTextureObject::ClampToEdge);
   this->TableTexture->SetMinificationFilter(vtkTextureObject::Linear);
   this->TableTexture->SetMagnificationFilter(vtkTextureObject::Linear);
   // The zero-opacity runs of the table spacings, read with texelFetch.
@@ -244,10 +300,11 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   }
   this->EmptyRunsTexture->SetMinificationFilter(vtkTextureObject::Nearest);
   this->EmptyRunsTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  this->UploadedTable = table;
   this->UploadedBuildCount = table->GetBuildCount();
-  this->UploadedHalfFloat = this->HalfFloatTable;
-  this->TableTextureMemorySize =
-    static_cast<vtkIdType>(n) * n * 4 * (this->HalfFloatTable ? 2 : 4) + (n - 1) * 4;
+  this->UploadedPrecision = precision;
+  vtkIdType entries = static_cast<vtkIdType>(n) * n * (volume ? n : 1);
+  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4;
   return true;
 }
 
@@ -284,8 +341,10 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
   // Declared late, after every uniform and global the functions use.
   ok = ok &&
-    Self::ReplaceShaderTag(
-      fragmentShader, "//VTK::ComputeRayDirection::Dec", hovrPreIntegration1, true);
+    Self::ReplaceShaderTag(fragmentShader,
+      "//VTK::ComputeRayDirection::Dec",
+      this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1,
+      true);
   if (!ok)
   {
     vtkErrorMacro("The ray caster's shader template lacks a tag that pre-integration replaces.");
@@ -299,7 +358,7 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
 {
   program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
   program->SetUniformi("hovr_emptyRuns", this->EmptyRunsTexture->GetTextureUnit());
-  program->SetUniformi("hovr_tableSize", this->FirstOrderTable->GetTableSize());
+  program->SetUniformi("hovr_tableSize", this->GetActiveTable()->GetTableSize());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
 }
@@ -309,6 +368,7 @@ void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
   this->EmptyRunsTexture->ReleaseGraphicsResources(window);
+  this->UploadedTable = nullptr;
   this->UploadedBuildCount = -1;
   this->TableTextureMemorySize = 0;
 }
@@ -319,7 +379,8 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
-  os << indent << "HalfFloatTable: " << this->HalfFloatTable << "\n";
+  os << indent << "TablePrecision: " << this->TablePrecision << "\n";
+  os << indent << "Iterations: " << this->GetIterations() << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
 }

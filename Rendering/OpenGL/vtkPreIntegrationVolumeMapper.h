@@ -8,12 +8,18 @@
  * are not missed between samples:
  *   - Integration = STOCK: VTK's own compositing, unchanged (for comparison);
  *   - Integration = FIRST_ORDER: first-order pre-integration (Engel et al. 2001), a 2D table
- *     over (front, back) scalar for the sample distance (vtkFirstOrderPreIntegrationTable).
+ *     over (front, back) scalar for the sample distance (vtkFirstOrderPreIntegrationTable);
+ *   - Integration = SECOND_ORDER: second-order pre-integration (El Hajjar et al. 2008), slabs
+ *     of two sample distances whose three samples fix a quadratic profile, a 3D table over
+ *     (front, middle, back) scalar (vtkSecondOrderPreIntegrationTable): one volume fetch per
+ *     sample, one table fetch per slab.
  *
- * The table is built on the CPU and uploaded only when the transfer functions, the opacity
- * unit distance, the sample distance or the scalar range change. Its size is chosen from the
- * data (one entry per integer value for 8-bit data) and the transfer function (enough entries
- * across its narrowest feature) unless TableSize is set.
+ * Only the table of the active order is built, on the CPU, and uploaded only when the
+ * transfer functions, the opacity unit distance, the sample distance or the scalar range
+ * change. Its size is chosen from the data (one entry per integer value for 8-bit data) and
+ * the transfer function (enough entries across its narrowest feature) unless TableSize is
+ * set, and its storage precision from its dimension unless TablePrecision is set. Slabs or
+ * segments whose scalar stays in one zero-opacity run skip the table fetch.
  *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
  * flag and start and end where VTK's ray does. Composite blending of one-component scalars
@@ -29,6 +35,8 @@
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
 class vtkFirstOrderPreIntegrationTable;
+class vtkPreIntegrationTable;
+class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkPreIntegrationVolumeMapper
@@ -42,7 +50,16 @@ public:
   enum IntegrationModes
   {
     STOCK = 0,
-    FIRST_ORDER = 1
+    FIRST_ORDER = 1,
+    SECOND_ORDER = 2
+  };
+
+  enum TablePrecisions
+  {
+    PRECISION_AUTOMATIC = 0, ///< 32-bit floats for the 2D table, 16-bit for the 3D table
+    PRECISION_UNORM8 = 1,    ///< 8 bits per channel, as in the second-order paper
+    PRECISION_FLOAT16 = 2,
+    PRECISION_FLOAT32 = 3
   };
 
   ///@{
@@ -53,15 +70,19 @@ public:
   vtkGetMacro(Integration, int);
   void SetIntegrationToStock() { this->SetIntegration(STOCK); }
   void SetIntegrationToFirstOrder() { this->SetIntegration(FIRST_ORDER); }
+  void SetIntegrationToSecondOrder() { this->SetIntegration(SECOND_ORDER); }
   ///@}
 
   ///@{
   /**
    * Entries of the table along each scalar axis; 0 chooses from the data and the transfer
-   * function: one entry per integer value of 8-bit data, otherwise 8 entries across the
-   * narrowest transfer-function feature, at least 256 and at most 1024
-   * (vtkPreIntegrationTable::SuggestTableSize). Values above the OpenGL texture
-   * limit are clamped to it with a warning. Initial value is 0.
+   * function (vtkPreIntegrationTable::SuggestTableSize): one entry per integer value of 8-bit
+   * data; otherwise, for the 2D table, 8 entries across the narrowest transfer-function
+   * feature, between 256 and 1024. The 3D table interpolates integrated slabs, which vary
+   * more slowly than the transfer function: one entry per narrowest opacity feature, between
+   * 64 and 256 (measured: on neghip, fuel and bucky a 64^3 to 96^3 table is as accurate as
+   * 256^3, larger ones are slightly worse). Values above the OpenGL texture limits are
+   * clamped to them with a warning. Initial value is 0.
    */
   vtkSetClampMacro(TableSize, int, 0, 65536);
   vtkGetMacro(TableSize, int);
@@ -69,12 +90,19 @@ public:
 
   ///@{
   /**
-   * Store the table as 16-bit floats on the GPU (half the memory) instead of 32-bit floats.
-   * Initial value is false.
+   * Storage of the table on the GPU. Initial value is PRECISION_AUTOMATIC.
    */
-  vtkSetMacro(HalfFloatTable, bool);
-  vtkGetMacro(HalfFloatTable, bool);
-  vtkBooleanMacro(HalfFloatTable, bool);
+  vtkSetClampMacro(TablePrecision, int, PRECISION_AUTOMATIC, PRECISION_FLOAT32);
+  vtkGetMacro(TablePrecision, int);
+  ///@}
+
+  ///@{
+  /**
+   * Integration steps per entry of the second-order table (the paper: 64 are enough, 256
+   * satisfy Nyquist). Initial value is 64.
+   */
+  virtual void SetIterations(int iterations);
+  virtual int GetIterations();
   ///@}
 
   ///@{
@@ -86,15 +114,25 @@ public:
   vtkGetMacro(OpacityThreshold, double);
   ///@}
 
+  ///@{
   /**
-   * The first-order table (for statistics: GetBuildCount, GetLastBuildTime, GetMemorySize).
+   * The tables (for statistics: GetBuildCount, GetLastBuildTime, GetMemorySize); only the one
+   * of the active order is built.
    */
   vtkFirstOrderPreIntegrationTable* GetFirstOrderTable() { return this->FirstOrderTable; }
+  vtkSecondOrderPreIntegrationTable* GetSecondOrderTable() { return this->SecondOrderTable; }
+  vtkPreIntegrationTable* GetActiveTable();
+  ///@}
 
   /**
-   * Bytes of GPU memory held by the current table texture.
+   * Bytes of GPU memory held by the current table textures.
    */
   vtkGetMacro(TableTextureMemorySize, vtkIdType);
+
+  /**
+   * The precision the table is stored with (PRECISION_AUTOMATIC resolved).
+   */
+  int GetEffectiveTablePrecision();
 
   /**
    * Affine map from the raw value VTK's volume texture returns for an array of this type to
@@ -122,14 +160,17 @@ protected:
 
   int Integration = FIRST_ORDER;
   int TableSize = 0;
-  bool HalfFloatTable = false;
+  int TablePrecision = PRECISION_AUTOMATIC;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
 
   vtkFirstOrderPreIntegrationTable* FirstOrderTable;
+  vtkSecondOrderPreIntegrationTable* SecondOrderTable;
   vtkTextureObject* TableTexture;
   vtkTextureObject* EmptyRunsTexture;
+  // What the textures hold: table, its build and precision.
+  vtkPreIntegrationTable* UploadedTable = nullptr;
   int UploadedBuildCount = -1;
-  bool UploadedHalfFloat = false;
+  int UploadedPrecision = -1;
   vtkIdType TableTextureMemorySize = 0;
   float RawToTable[2] = { 1.0f, 0.0f };
   std::string LastWarning;

@@ -117,7 +117,7 @@ class PreIntegrationMethod(Method):
         return mapper
 
     def statistics(self, mapper):
-        table = mapper.GetFirstOrderTable()
+        table = mapper.GetActiveTable()
         return {"table_size": table.GetTableSize(),
                 "table_build_ms": 1000.0 * table.GetLastBuildTime(),
                 "table_builds": table.GetBuildCount(),
@@ -135,6 +135,9 @@ METHODS = {m.name: m for m in (
     PreIntegrationMethod("preint1", "first-order pre-integration, 2D table "
                                     "(vtkPreIntegrationVolumeMapper)",
                          gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER),
+    PreIntegrationMethod("preint2", "second-order pre-integration, 3D table over (front, "
+                                    "middle, back) (vtkPreIntegrationVolumeMapper)",
+                         gl.vtkPreIntegrationVolumeMapper.SECOND_ORDER),
 )}
 
 
