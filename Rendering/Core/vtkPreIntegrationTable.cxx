@@ -61,7 +61,7 @@ bool vtkPreIntegrationTable::Update()
     return false;
   }
   const vtkMTimeType mtime = std::max(this->GetMTime(), this->Sampler->GetMTime());
-  if (mtime <= this->BuildMTime && this->Table->GetNumberOfTuples() > 0)
+  if (mtime <= this->BuildMTime && this->BuildCount > 0)
   {
     return true;
   }
@@ -71,7 +71,7 @@ bool vtkPreIntegrationTable::Update()
     entries *= this->TableSize;
   }
   const double start = vtkTimerLog::GetUniversalTime();
-  this->Table->SetNumberOfTuples(entries);
+  this->Table->SetNumberOfTuples(this->ComputeEntries ? entries : 0);
   this->BuildTable();
   this->BuildEmptyRuns();
   this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;

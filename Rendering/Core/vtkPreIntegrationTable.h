@@ -67,6 +67,18 @@ public:
   vtkGetMacro(TableSize, int);
   ///@}
 
+  ///@{
+  /**
+   * Whether Update() computes the entries. When false it still tracks changes, counts builds
+   * and prepares what the entries are computed from (empty runs, and what a subclass needs),
+   * leaving the entries to another builder such as a GPU pass; GetTable() is then empty.
+   * Initial value is true.
+   */
+  vtkSetMacro(ComputeEntries, bool);
+  vtkGetMacro(ComputeEntries, bool);
+  vtkBooleanMacro(ComputeEntries, bool);
+  ///@}
+
   /**
    * Rebuild the table if anything it depends on changed. Returns false and reports an error
    * for invalid settings (missing transfer function, non-positive lengths, empty range).
@@ -124,8 +136,8 @@ protected:
   ~vtkPreIntegrationTable() override;
 
   /**
-   * Fill this->Table (already sized to TableSize^dimensions RGBA tuples) from the prepared
-   * sampler. Called by Update() only when needed.
+   * Fill this->Table (already sized to TableSize^dimensions RGBA tuples, or empty when
+   * ComputeEntries is false) from the prepared sampler. Called by Update() only when needed.
    */
   virtual void BuildTable() = 0;
 
@@ -140,6 +152,7 @@ protected:
   int TableSize = 256;
   int BuildCount = 0;
   double LastBuildTime = 0.0;
+  bool ComputeEntries = true;
   vtkMTimeType BuildMTime = 0;
 
 private:

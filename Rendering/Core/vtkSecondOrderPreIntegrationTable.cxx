@@ -254,6 +254,10 @@ public:
 void vtkSecondOrderPreIntegrationTable::BuildTable()
 {
   this->BuildIterationTable();
+  if (!this->ComputeEntries)
+  {
+    return; // another builder (the GPU) integrates from the iteration table
+  }
   SlabIntegrator integrator;
   integrator.N = this->TableSize;
   integrator.PerEntry = this->IterationSamplesPerSpacing;
