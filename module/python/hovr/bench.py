@@ -18,6 +18,13 @@ A bench configuration is a JSON object::
       ]
     }
 
+Instead of methods x steps, ``"runs": [["preint1", 2], ["preint2", 2], ["stock", 0.25]]``
+(top level or per dataset) lists method-step pairs, and ``"baseline": ["preint1", 2]`` names
+the run that the ms and RMSE ratio columns compare with (default: stock at the same step).
+``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
+image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
+approximations with the error term xi of El Hajjar et al., section 3.2.
+
 Paths are relative to the configuration file; ``${HOVR_DATA}`` is the shared test-data folder
 (environment variable HOVR_DATA, by default ../shared/data beside the project) and
 ``${HOVR_ROOT}`` the project. A dataset marked optional whose input is missing is skipped with
@@ -43,8 +50,8 @@ from .io import HovrError
 
 CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
               "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
-              "ms_ratio_to_stock", "rmse_ratio_to_stock", "table_size", "table_build_ms",
-              "table_gpu_bytes"]
+              "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
+              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes"]
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -87,6 +94,11 @@ def load_config(path):
         raise HovrError("%s: a bench configuration is an object with a 'datasets' list" % path)
     for name in config.get("methods", []):
         hm.get_method(name)
+    for entry in config.get("runs", []) + [r for d in config["datasets"] for r in d.get("runs", [])]:
+        if (not isinstance(entry, list) or len(entry) != 2
+                or not isinstance(entry[1], (int, float)) or not entry[1] > 0):
+            raise HovrError("%s: a run is [method, positive step], got %r" % (path, entry))
+        hm.get_method(entry[0])
     for step in config.get("steps", []):
         if not (isinstance(step, (int, float)) and step > 0):
             raise HovrError("%s: steps must be positive numbers, got %r" % (path, step))
@@ -150,14 +162,15 @@ def run(config_path, output, log=print, renderer=None):
                                                   size), log)
             hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
             dataset_rows = []
-            steps = spec.get("steps", config.get("steps", [1]))
-            names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
-            runs = [(hm.get_method(n), step) for n in names for step in steps
+            pairs = _runs_of(spec, config)
+            runs = [(hm.get_method(n), step) for n, step in pairs
                     if hm.get_method(n).kind == "gpu"]
             results = renderer.render_interleaved(runs, scene, repeat) if runs else []
-            if "reference" in names:
-                runs.append((hm.get_method("reference"), min(steps)))
-                results.append(renderer.render("reference", scene, min(steps), repeat))
+            for n, step in pairs:
+                if hm.get_method(n).kind == "cpu":
+                    runs.append((hm.get_method(n), step))
+                    results.append(renderer.render(n, scene, step, repeat))
+            panels = []
             for (method, step), result in zip(runs, results):
                 errors, difference = hm.compare(result.image, reference)
                 row = result.summary(method.name, step)
@@ -168,9 +181,16 @@ def run(config_path, output, log=print, renderer=None):
                 hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
                 hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
                                 array="Difference", scale=10.0)
+                panels.append((row, result.image, difference))
                 log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f" % (
                     name, method.name, step, row["median_ms"], row["rmse"], row["max_error"]))
-            _add_ratios(dataset_rows)
+            from . import plot
+            plot.side_by_side(name, reference, panels,
+                              os.path.join(output, name + "_side_by_side.png"))
+            if spec.get("ray_profile"):
+                plot.ray_profile(scene, float(spec.get("ray_profile_step", 2.0)),
+                                 os.path.join(output, name + "_ray_profile.png"))
+            _add_ratios(dataset_rows, spec.get("baseline", config.get("baseline")))
             rows.extend(dataset_rows)
     finally:
         if own_renderer:
@@ -194,13 +214,32 @@ def _reference(renderer, scene, name, output, key, log):
     return result.image
 
 
-def _add_ratios(rows):
+def _runs_of(spec, config):
+    """The (method name, step) pairs of a dataset: explicit runs, else methods x steps."""
+    runs = spec.get("runs", config.get("runs"))
+    if runs:
+        return [(name, float(step)) for name, step in runs]
+    steps = spec.get("steps", config.get("steps", [1]))
+    names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
+    return [(name, step) for name in names
+            for step in (steps if hm.get_method(name).kind == "gpu" else [min(steps)])]
+
+
+def _add_ratios(rows, baseline=None):
     stock = {row["step"]: row for row in rows if row["method"] == "stock"}
+    base_row = None
+    if baseline:
+        base_row = next((row for row in rows if row["method"] == baseline[0]
+                         and row["step"] == float(baseline[1])), None)
     for row in rows:
         base = stock.get(row["step"])
         if base and base["median_ms"] > 0 and base["rmse"] > 0:
             row["ms_ratio_to_stock"] = row["median_ms"] / base["median_ms"]
             row["rmse_ratio_to_stock"] = row["rmse"] / base["rmse"]
+        if base_row and base_row["median_ms"] > 0 and base_row["rmse"] > 0:
+            row["baseline"] = "%s@%g" % (base_row["method"], base_row["step"])
+            row["ms_ratio_to_baseline"] = row["median_ms"] / base_row["median_ms"]
+            row["rmse_ratio_to_baseline"] = row["rmse"] / base_row["rmse"]
 
 
 def write_csv(rows, path):
@@ -218,13 +257,20 @@ def _fmt(value):
 
 
 def format_summary(rows, skipped=()):
+    with_baseline = any("baseline" in row for row in rows)
     lines = ["%-10s %-9s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",
-                                                   "RMSE", "max err", "ms/stock")]
+                                                   "RMSE", "max err", "ms/stock")
+             + ("  %-12s %8s %8s" % ("baseline", "ms/base", "rmse/base") if with_baseline
+                else "")]
     for row in rows:
         ratio = row.get("ms_ratio_to_stock")
-        lines.append("%-10s %-9s %6g %10.2f %10.5f %10.4f %9s" % (
+        line = "%-10s %-9s %6g %10.2f %10.5f %10.4f %9s" % (
             row["dataset"], row["method"], row["step"], row["median_ms"], row["rmse"],
-            row["max_error"], "%.2f" % ratio if ratio is not None else "-"))
+            row["max_error"], "%.2f" % ratio if ratio is not None else "-")
+        if with_baseline and "baseline" in row:
+            line += "  %-12s %8.2f %8.2f" % (row["baseline"], row["ms_ratio_to_baseline"],
+                                           row["rmse_ratio_to_baseline"])
+        lines.append(line)
     for name in skipped:
         lines.append("%-10s skipped (data not found)" % name)
     return "\n".join(lines) + "\n"
