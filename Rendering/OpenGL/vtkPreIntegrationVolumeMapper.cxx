@@ -24,6 +24,11 @@
 
 vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 
+namespace
+{
+constexpr int MaximumVolumeTableSize = 512;
+}
+
 //------------------------------------------------------------------------------
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
@@ -57,6 +62,7 @@ void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
 //------------------------------------------------------------------------------
 void vtkPreIntegrationVolumeMapper::SetIterations(int iterations)
 {
+  iterations = std::min(std::max(iterations, 1), 4096); // the table's own clamp
   if (iterations != this->SecondOrderTable->GetIterations())
   {
     this->SecondOrderTable->SetIterations(iterations);
@@ -236,6 +242,13 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize << "; using "
                                   << maxSize << ".");
     size = maxSize;
+  }
+  if (secondOrder && size > MaximumVolumeTableSize)
+  {
+    // 512^3 RGBA is 1 GiB in half floats: more is a mistake, not a setting.
+    vtkWarningMacro("A " << size << "^3 table is too large; using " << MaximumVolumeTableSize
+                         << "^3.");
+    size = MaximumVolumeTableSize;
   }
   table->SetTableSize(size);
   if (!table->Update() || !this->UploadTable(ren))

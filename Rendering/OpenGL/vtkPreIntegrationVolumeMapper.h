@@ -81,8 +81,9 @@ public:
    * feature, between 256 and 1024. The 3D table interpolates integrated slabs, which vary
    * more slowly than the transfer function: one entry per narrowest opacity feature, between
    * 64 and 256 (measured: on neghip, fuel and bucky a 64^3 to 96^3 table is as accurate as
-   * 256^3, larger ones are slightly worse). Values above the OpenGL texture limits are
-   * clamped to them with a warning. Initial value is 0.
+   * 256^3, larger ones are slightly worse). Values above the OpenGL texture limits, or above
+   * 512 for the 3D table (1 GiB in half floats), are clamped with a warning. Initial value
+   * is 0.
    */
   vtkSetClampMacro(TableSize, int, 0, 65536);
   vtkGetMacro(TableSize, int);

@@ -39,6 +39,28 @@ def marschner_lobb_scene(size, points=41):
                     hio.default_camera(source.GetOutput().GetBounds()), size)
 
 
+def image_from_array(values, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)):
+    """vtkImageData whose point scalars are a numpy array indexed [z, y, x]."""
+    import numpy
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    image = vtkImageData()
+    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
+    image.SetSpacing(spacing)
+    image.SetOrigin(origin)
+    array = numpy_to_vtk(numpy.ascontiguousarray(values.ravel()), deep=True)
+    array.SetName("scalars")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def rgba(image):
+    """The RGBA array of a rendered image as an (H, W, 4) numpy array."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetArray("RGBA")).reshape(h, w, 4)
+
+
 def run_cli(*args, expect=0):
     """Run ``python3 -m hovr.cli`` and return (exit code, stdout, stderr)."""
     process = subprocess.run([sys.executable, "-m", "hovr.cli"] + [str(a) for a in args],

@@ -19,7 +19,8 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   vtkNew<vtkPreIntegrationVolumeMapper> mapper;
   this->Integration = mapper->GetIntegration();
   this->TableSize = mapper->GetTableSize();
-  this->HalfFloatTable = mapper->GetHalfFloatTable();
+  this->TablePrecision = mapper->GetTablePrecision();
+  this->Iterations = mapper->GetIterations();
   this->VolumeMapper = mapper;
 }
 
@@ -76,7 +77,8 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   }
   mapper->SetIntegration(this->Integration);
   mapper->SetTableSize(this->TableSize);
-  mapper->SetHalfFloatTable(this->HalfFloatTable);
+  mapper->SetTablePrecision(this->TablePrecision);
+  mapper->SetIterations(this->Iterations);
 
   double distance = this->SampleDistance;
   if (!(distance > 0.0))
@@ -99,6 +101,7 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
-  os << indent << "HalfFloatTable: " << this->HalfFloatTable << "\n";
+  os << indent << "TablePrecision: " << this->TablePrecision << "\n";
+  os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
 }

@@ -62,10 +62,22 @@ public:
 
   ///@{
   /**
-   * Store the table as 16-bit floats on the GPU. Initial value is the mapper's, false.
+   * Storage of the table on the GPU: a value of
+   * vtkPreIntegrationVolumeMapper::TablePrecisions, passed on unchanged (the mapper clamps it).
+   * Initial value is the mapper's, PRECISION_AUTOMATIC.
    */
-  vtkSetMacro(HalfFloatTable, bool);
-  vtkGetMacro(HalfFloatTable, bool);
+  vtkSetMacro(TablePrecision, int);
+  vtkGetMacro(TablePrecision, int);
+  ///@}
+
+  ///@{
+  /**
+   * Integration steps per entry of the second-order table (see
+   * vtkPreIntegrationVolumeMapper::SetIterations), clamped to the table's range [1, 4096].
+   * Initial value is the mapper's, 64.
+   */
+  vtkSetClampMacro(Iterations, int, 1, 4096);
+  vtkGetMacro(Iterations, int);
   ///@}
 
   /**
@@ -87,7 +99,8 @@ protected:
   int Integration;
   double SampleDistance = 0.0;
   int TableSize;
-  bool HalfFloatTable;
+  int TablePrecision;
+  int Iterations;
   double EffectiveSampleDistance = 0.0;
 
 private:

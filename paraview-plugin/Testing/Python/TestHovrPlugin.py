@@ -3,19 +3,25 @@
 
 Loads the plugin, volume renders the Marschner-Lobb source with the "hovr Volume"
 representation and a narrow opacity peak, and checks that
-  - the plugin's proxies and properties are there, with their documented defaults;
+  - the plugin's proxies and properties are there, with their documented defaults and
+    enumeration entries;
   - the representation draws with vtkPreIntegrationVolumeMapper and forwards its settings
-    (sample distance, table size, half-float table; checked in pvbatch's built-in session);
-  - the first-order image matches the baseline, and a half-float table barely changes it;
+    (sample distance, table size, table precision, iterations; checked in pvbatch's built-in
+    session, through the table's GPU bytes and the mapper's PrintSelf);
+  - the first-order image matches its baseline, and a half-float table barely changes it;
+  - the second-order image (a 3D table) matches its baseline and differs from the first-order
+    one;
   - switching Integration to Stock changes the image (so the pre-integrated path was drawn),
-    and first-order at one sample per cell is closer to a fine-step Stock reference than Stock;
+    and first- and second-order at one sample per cell are closer to a fine-step Stock
+    reference than Stock;
   - a sample distance of 0 becomes half the grid spacing.
 
-    pvbatch TestHovrPlugin.py --plugin <hovr.so> --baseline <png> --output-dir <dir>
+    pvbatch TestHovrPlugin.py --plugin <hovr.so> --baseline <png> \
+        --second-order-baseline <png> --output-dir <dir>
     pvpython TestHovrPlugin.py ... --server <host>:<port>   (client-server, see RunClientServer.py)
 
 Without a baseline the test image is written to the output directory and the test fails: that
-is how the baseline is made (inspect the image, then copy it to the baseline path).
+is how a baseline is made (inspect the image, then copy it to the baseline path).
 """
 import argparse
 import os
@@ -38,8 +44,12 @@ from vtkmodules import vtkRenderingVolumeOpenGL2  # noqa: F401
 # Baseline tolerance: renders on the machine kind that made the baseline repeat exactly (0, in
 # pvbatch and through a pvserver alike); llvmpipe on another CPU or LLVM version may round some
 # pixels differently by a few levels (not measured), which the tolerance absorbs. Stock
-# compositing of the same scene differs by about 18, a half-float table by about 0.07.
+# compositing of the same scene differs by about 18, a half-float table by about 0.07; in
+# second order, 128 iterations and a float table instead of 64 and half floats by about 0.17.
 BASELINE_TOLERANCE = 2.0
+# The second-order image must differ from the first-order one by more than rendering noise
+# (measured: about 7.4).
+MIN_ORDER_DIFFERENCE = 4.0
 # Switching to Stock must change the image by at least this much: a narrow opacity peak
 # sampled once per cell is where point sampling and pre-integration disagree most.
 MIN_STOCK_DIFFERENCE = 8.0
@@ -49,6 +59,12 @@ REFERENCE_SAMPLE_DISTANCE = 2.0 / 40.0 / 25.0
 # Pre-integration table entries per scalar axis: about 10 across the narrowest opacity feature
 # (0.02 of the data range [0, 1]).
 TABLE_SIZE = 512
+# The second-order table has TABLE_SIZE_3D^3 entries: the mapper's automatic choice for this
+# transfer function (its smallest, 64), fixed so that the baseline does not depend on it.
+TABLE_SIZE_3D = 64
+# Integration steps per second-order table entry, set to check that the setting reaches the
+# mapper (the initial value is 64).
+ITERATIONS = 128
 
 IMAGE_SIZE = [256, 256]
 GRID_SPACING = 2.0 / 40.0  # Marschner-Lobb default: 41 points over [-1, 1]
@@ -58,6 +74,8 @@ def parse_arguments():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--plugin", required=True, help="path of the hovr plugin (hovr.so)")
     parser.add_argument("--baseline", required=True, help="baseline PNG of the first-order image")
+    parser.add_argument("--second-order-baseline", required=True,
+                        help="baseline PNG of the second-order image")
     parser.add_argument("--output-dir", required=True, help="where test images are written")
     parser.add_argument("--server", help="host:port of a pvserver to connect to; without it the "
                         "test runs in pvbatch's built-in session")
@@ -97,15 +115,38 @@ def image_difference(path, reference_path):
     return float(numpy.sqrt(numpy.mean((rgb - reference) ** 2)))
 
 
-# The table's GPU memory also holds its zero-opacity runs: one float per table spacing.
-RUNS_BYTES = (TABLE_SIZE - 1) * 4
+# Bytes per table channel of the Table Precision entries (Automatic resolved by the caller).
+PRECISION_BYTES = {"8-bit": 1, "Half float": 2, "Float": 4}
+
+
+def expected_table_bytes(size, dimensions, precision):
+    """GPU bytes of an RGBA table of size^dimensions entries, plus its zero-opacity runs (one
+    float per table spacing)."""
+    return size ** dimensions * 4 * PRECISION_BYTES[precision] + (size - 1) * 4
+
+
+def mapper_setting(mapper, name):
+    """An integer setting printed by the mapper's PrintSelf ("Name: value"), or None: hovr's
+    getters are not Python-wrapped in the plugin build."""
+    match = re.search(r"^\s*%s: (-?\d+)$" % name, str(mapper), re.MULTILINE)
+    return int(match.group(1)) if match else None
 
 
 def table_texture_bytes(mapper):
-    """GPU bytes of the mapper's table, read from its PrintSelf: hovr's getters are not
-    Python-wrapped in the plugin build."""
-    match = re.search(r"TableTextureMemorySize: (\d+)", str(mapper))
-    return int(match.group(1)) if match else -1
+    """GPU bytes of the mapper's table."""
+    value = mapper_setting(mapper, "TableTextureMemorySize")
+    return -1 if value is None else value
+
+
+def compare_with_baseline(checker, image, baseline, what):
+    if not os.path.exists(baseline):
+        checker.check(False, "no baseline at %s; the test image is %s: inspect it and copy it "
+                      "there to make the baseline" % (baseline, image))
+        return
+    error = image_difference(image, baseline)
+    checker.check(error <= BASELINE_TOLERANCE,
+                  "%s image matches the baseline: RMS difference %g, tolerance %g (test image %s)"
+                  % (what, error, BASELINE_TOLERANCE, image))
 
 
 def capture(view, path):
@@ -148,15 +189,26 @@ def main():
     ColorBy(display, ("POINTS", "MarschnerLobb"))
 
     properties = display.ListProperties()
-    for name in ("HovrIntegration", "HovrSampleDistance", "HovrTableSize", "HovrHalfFloatTable"):
+    for name in ("HovrIntegration", "HovrSampleDistance", "HovrTableSize", "HovrTablePrecision",
+                 "HovrIterations"):
         checker.check(name in properties, "the representation exposes %s" % name)
-    checker.check(list(display.GetProperty("HovrIntegration").Available) ==
-                  ["Stock", "First-order pre-integration"], "Integration choices")
+    checker.check("HovrHalfFloatTable" not in properties,
+                  "HovrHalfFloatTable is gone (replaced by HovrTablePrecision)")
+    integrations = list(display.GetProperty("HovrIntegration").Available)
+    checker.check(integrations == ["Stock", "First-order pre-integration",
+                                   "Second-order pre-integration"],
+                  "Integration choices (%s)" % integrations)
+    precisions = list(display.GetProperty("HovrTablePrecision").Available)
+    checker.check(precisions == ["Automatic", "8-bit", "Half float", "Float"],
+                  "Table Precision choices (%s)" % precisions)
     checker.check(display.HovrIntegration == "First-order pre-integration",
                   "Integration defaults to first-order pre-integration")
-    checker.check(display.HovrSampleDistance == 0 and display.HovrTableSize == 0 and
-                  display.HovrHalfFloatTable == 0,
-                  "Sample Distance, Table Size and Half-Float Table default to 0 (automatic/off)")
+    checker.check(display.HovrSampleDistance == 0 and display.HovrTableSize == 0,
+                  "Sample Distance and Table Size default to 0 (automatic)")
+    checker.check(display.HovrTablePrecision == "Automatic",
+                  "Table Precision defaults to Automatic (%s)" % display.HovrTablePrecision)
+    checker.check(display.HovrIterations == 64,
+                  "Iterations defaults to 64 (%s)" % display.HovrIterations)
 
     # A narrow opacity peak around 0.5: a thin shell that sampling once per cell misses or
     # aliases, while first-order pre-integration catches it between samples.
@@ -207,30 +259,75 @@ def main():
     if drawing_mapper_here:
         checker.check(abs(mapper.GetSampleDistance() - GRID_SPACING) < 1e-6,
                       "Sample Distance reaches the mapper (%g)" % mapper.GetSampleDistance())
-        checker.check(table_texture_bytes(mapper) == TABLE_SIZE * TABLE_SIZE * 4 * 4 + RUNS_BYTES,
+        # Automatic precision: 32-bit floats for the 2D table.
+        checker.check(table_texture_bytes(mapper) == expected_table_bytes(TABLE_SIZE, 2, "Float"),
                       "Table Size reaches the mapper: a %d^2 RGBA float table (%d bytes)"
                       % (TABLE_SIZE, table_texture_bytes(mapper)))
+        checker.check(mapper_setting(mapper, "Integration") == 1 and
+                      mapper_setting(mapper, "TablePrecision") == 0 and
+                      mapper_setting(mapper, "Iterations") == 64,
+                      "the mapper has Integration 1, TablePrecision 0 and Iterations 64")
 
-    if not os.path.exists(args.baseline):
-        checker.check(False, "no baseline at %s; the test image is %s: inspect it and copy it "
-                      "there to make the baseline" % (args.baseline, first_order))
-    else:
-        error = image_difference(first_order, args.baseline)
-        checker.check(error <= BASELINE_TOLERANCE,
-                      "first-order image matches the baseline: RMS difference %g, tolerance %g "
-                      "(test image %s)" % (error, BASELINE_TOLERANCE, first_order))
+    compare_with_baseline(checker, first_order, args.baseline, "first-order")
 
-    display.HovrHalfFloatTable = 1
+    display.HovrTablePrecision = "Half float"
     half_float = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-half.png"))
     if drawing_mapper_here:
-        checker.check(table_texture_bytes(mapper) == TABLE_SIZE * TABLE_SIZE * 4 * 2 + RUNS_BYTES,
-                      "Half-Float Table reaches the mapper: a %d^2 RGBA half-float table (%d "
+        checker.check(mapper_setting(mapper, "TablePrecision") == 2 and
+                      table_texture_bytes(mapper) == expected_table_bytes(TABLE_SIZE, 2,
+                                                                          "Half float"),
+                      "Table Precision reaches the mapper: a %d^2 RGBA half-float table (%d "
                       "bytes)" % (TABLE_SIZE, table_texture_bytes(mapper)))
     half_float_difference = image_difference(half_float, first_order)
     checker.check(half_float_difference <= BASELINE_TOLERANCE,
                   "a half-float table barely changes the image: RMS difference %g, at most %g"
                   % (half_float_difference, BASELINE_TOLERANCE))
-    display.HovrHalfFloatTable = 0
+    display.HovrTablePrecision = "8-bit"
+    Render(view)
+    if drawing_mapper_here:
+        checker.check(mapper_setting(mapper, "TablePrecision") == 1 and
+                      table_texture_bytes(mapper) == expected_table_bytes(TABLE_SIZE, 2, "8-bit"),
+                      "8-bit Table Precision reaches the mapper: a %d^2 RGBA8 table (%d bytes)"
+                      % (TABLE_SIZE, table_texture_bytes(mapper)))
+    display.HovrTablePrecision = "Automatic"
+
+    # Second order: slabs of two sample distances, a 3D table (automatic precision: half
+    # floats).
+    display.HovrIntegration = "Second-order pre-integration"
+    display.HovrTableSize = TABLE_SIZE_3D
+    second_order = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-second.png"))
+    if drawing_mapper_here:
+        checker.check(mapper_setting(mapper, "Integration") == 2 and
+                      table_texture_bytes(mapper) == expected_table_bytes(TABLE_SIZE_3D, 3,
+                                                                          "Half float"),
+                      "second order reaches the mapper: a %d^3 RGBA half-float table (%d bytes)"
+                      % (TABLE_SIZE_3D, table_texture_bytes(mapper)))
+    compare_with_baseline(checker, second_order, args.second_order_baseline, "second-order")
+    orders_difference = image_difference(second_order, first_order)
+    checker.check(orders_difference >= MIN_ORDER_DIFFERENCE,
+                  "the second-order image differs from the first-order one: RMS difference %g, "
+                  "at least %g" % (orders_difference, MIN_ORDER_DIFFERENCE))
+
+    display.HovrIterations = ITERATIONS
+    display.HovrTablePrecision = "Float"
+    more_iterations = capture(view, os.path.join(args.output_dir,
+                                                 "TestHovrPlugin-second-iterations.png"))
+    if drawing_mapper_here:
+        checker.check(mapper_setting(mapper, "Iterations") == ITERATIONS,
+                      "Iterations reaches the mapper (%s)" % mapper_setting(mapper, "Iterations"))
+        checker.check(mapper_setting(mapper, "TablePrecision") == 3 and
+                      table_texture_bytes(mapper) == expected_table_bytes(TABLE_SIZE_3D, 3,
+                                                                          "Float"),
+                      "Table Precision reaches the mapper: a %d^3 RGBA float table (%d bytes)"
+                      % (TABLE_SIZE_3D, table_texture_bytes(mapper)))
+    iterations_difference = image_difference(more_iterations, second_order)
+    checker.check(iterations_difference <= BASELINE_TOLERANCE,
+                  "%d iterations and a float table barely change the second-order image: RMS "
+                  "difference %g, at most %g" % (ITERATIONS, iterations_difference,
+                                                 BASELINE_TOLERANCE))
+    display.HovrIterations = 64
+    display.HovrTablePrecision = "Automatic"
+    display.HovrTableSize = TABLE_SIZE
 
     display.HovrIntegration = "Stock"
     stock = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-stock.png"))
@@ -244,10 +341,14 @@ def main():
     display.HovrSampleDistance = REFERENCE_SAMPLE_DISTANCE
     reference = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-reference.png"))
     first_order_error = image_difference(first_order, reference)
+    second_order_error = image_difference(second_order, reference)
     stock_error = image_difference(stock, reference)
     checker.check(first_order_error < stock_error,
                   "first-order is closer to the fine-step reference than Stock: RMS %g < %g"
                   % (first_order_error, stock_error))
+    checker.check(second_order_error < stock_error,
+                  "second-order is closer to the fine-step reference than Stock: RMS %g < %g"
+                  % (second_order_error, stock_error))
 
     display.HovrIntegration = "First-order pre-integration"
     display.HovrSampleDistance = 0.0
