@@ -39,13 +39,17 @@ void vtkSecondOrderPreIntegrationTable::BuildIterationTable()
   const int fine = this->IterationSamplesPerSpacing * (this->TableSize - 1) + 1;
   const double s0 = this->ScalarRange[0];
   const double spacing = (this->ScalarRange[1] - s0) / (fine - 1);
+  // The last sample exactly at ScalarRange[1]: s0 + (fine - 1) spacing can miss it by a
+  // rounding error, which matters for a transfer-function step at the range end.
+  const double s1 = this->ScalarRange[1];
+  auto scalar = [&](int q) { return q == fine - 1 ? s1 : s0 + q * spacing; };
   const double step = this->SegmentLength / this->Iterations;
   this->IterationTable->SetNumberOfTuples(fine);
   float* values = this->IterationTable->GetPointer(0);
   for (int q = 0; q < fine; ++q)
   {
     double rgbTau[4];
-    this->Sampler->Evaluate(s0 + q * spacing, rgbTau);
+    this->Sampler->Evaluate(scalar(q), rgbTau);
     const double alpha = -std::expm1(-rgbTau[3] * step);
     values[4 * q + 0] = static_cast<float>(rgbTau[0] * alpha);
     values[4 * q + 1] = static_cast<float>(rgbTau[1] * alpha);
@@ -57,8 +61,7 @@ void vtkSecondOrderPreIntegrationTable::BuildIterationTable()
   bool inRun = false;
   for (int q = 0; q < fine - 1; ++q)
   {
-    const double a = s0 + q * spacing;
-    const bool empty = this->Sampler->GetMaximumOpacity(a, a + spacing) <= 0.0;
+    const bool empty = this->Sampler->GetMaximumOpacity(scalar(q), scalar(q + 1)) <= 0.0;
     run += empty && !inRun ? 1 : 0;
     inRun = empty;
     this->IterationEmptyRuns->SetValue(q, empty ? static_cast<float>(run) : -1.0f);
@@ -80,6 +83,7 @@ public:
   int Iterations;
   double Length;
   double S0;
+  double S1;
   double Spacing;
   const float* Steps;
   const float* Runs;
@@ -140,11 +144,16 @@ public:
         }
       }
     }
-    float f[Lanes][4], g[Lanes][4];
+    // Front to back: RGBA += T (c a, a), T *= 1 - a. Alpha is accumulated like the colour,
+    // not taken as 1 - T: in float 1 - a is a multiple of 2^-24, so T would drop steps with
+    // a below 3e-8 and distort those below ~1e-5 (thin media, short slabs) while their colour
+    // still counted.
+    float f[Lanes][4], g[Lanes][4], tf[Lanes], tg[Lanes];
     for (int lane = 0; lane < Lanes; ++lane)
     {
-      f[lane][0] = f[lane][1] = f[lane][2] = g[lane][0] = g[lane][1] = g[lane][2] = 0.0f;
-      f[lane][3] = g[lane][3] = 1.0f;
+      std::fill(f[lane], f[lane] + 4, 0.0f);
+      std::fill(g[lane], g[lane] + 4, 0.0f);
+      tf[lane] = tg[lane] = 1.0f;
     }
     const float* steps = scratch.Steps.data();
     for (int it = 0; it < n; ++it)
@@ -153,14 +162,13 @@ public:
       {
         const float* u = steps + 4 * (n * lane + it);
         const float* v = steps + 4 * (n * lane + n - 1 - it);
-        f[lane][0] += f[lane][3] * u[0];
-        f[lane][1] += f[lane][3] * u[1];
-        f[lane][2] += f[lane][3] * u[2];
-        f[lane][3] *= 1.0f - u[3];
-        g[lane][0] += g[lane][3] * v[0];
-        g[lane][1] += g[lane][3] * v[1];
-        g[lane][2] += g[lane][3] * v[2];
-        g[lane][3] *= 1.0f - v[3];
+        for (int c = 0; c < 4; ++c)
+        {
+          f[lane][c] += tf[lane] * u[c];
+          g[lane][c] += tg[lane] * v[c];
+        }
+        tf[lane] *= 1.0f - u[3];
+        tg[lane] *= 1.0f - v[3];
       }
     }
     for (int lane = 0; lane < count; ++lane)
@@ -172,8 +180,8 @@ public:
         forward[c] = f[lane][c];
         backward[c] = g[lane][c];
       }
-      forward[3] = 1.0f - f[lane][3];
-      backward[3] = 1.0f - g[lane][3];
+      forward[3] = std::min(f[lane][3], 1.0f); // sum of T a: 1 at most, up to rounding
+      backward[3] = std::min(g[lane][3], 1.0f);
     }
   }
 
@@ -214,7 +222,9 @@ public:
           {
             // Constant scalar (the table diagonal, or clamped): the exact exponential.
             double rgbTau[4];
-            this->Sampler->Evaluate(this->S0 + lo / perEntry * this->Spacing, rgbTau);
+            // Entry N - 1 exactly at S1 (see BuildIterationTable).
+            this->Sampler->Evaluate(
+              lo == this->Fine - 1.0 ? this->S1 : this->S0 + lo / perEntry * this->Spacing, rgbTau);
             const double alpha = -std::expm1(-rgbTau[3] * this->Length);
             for (float* out : { forward, backward })
             {
@@ -265,6 +275,7 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   integrator.Iterations = this->Iterations;
   integrator.Length = this->SegmentLength;
   integrator.S0 = this->ScalarRange[0];
+  integrator.S1 = this->ScalarRange[1];
   integrator.Spacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (this->TableSize - 1);
   integrator.Steps = this->IterationTable->GetPointer(0);
   integrator.Runs = this->IterationEmptyRuns->GetPointer(0);

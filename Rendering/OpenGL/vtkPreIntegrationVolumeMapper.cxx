@@ -6,11 +6,13 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
+#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeTransferFunctionSampler.h"
@@ -33,6 +35,7 @@ constexpr int MaximumVolumeTableSize = 512;
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
+  , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
 {
@@ -43,6 +46,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 {
   this->FirstOrderTable->Delete();
   this->SecondOrderTable->Delete();
+  this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
 }
@@ -54,6 +58,17 @@ void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
   if (mode != this->Integration)
   {
     this->Integration = mode;
+    this->ExtensionShaderModified();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetSkipEmptySegments(bool skip)
+{
+  if (skip != this->SkipEmptySegments)
+  {
+    this->SkipEmptySegments = skip;
     this->ExtensionShaderModified();
     this->Modified();
   }
@@ -246,11 +261,13 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   if (secondOrder && size > MaximumVolumeTableSize)
   {
     // 512^3 RGBA is 1 GiB in half floats: more is a mistake, not a setting.
-    vtkWarningMacro("A " << size << "^3 table is too large; using " << MaximumVolumeTableSize
-                         << "^3.");
+    vtkWarningMacro(
+      "A " << size << "^3 table is too large; using " << MaximumVolumeTableSize << "^3.");
     size = MaximumVolumeTableSize;
   }
   table->SetTableSize(size);
+  // A GPU build integrates from what Update() prepares; the CPU then skips the entries.
+  this->SecondOrderTable->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
@@ -264,6 +281,22 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
   this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
   return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::BuildOnGPU(vtkOpenGLRenderWindow* context)
+{
+  if (this->TableBuilder != BUILD_AUTOMATIC)
+  {
+    return this->TableBuilder == BUILD_ON_GPU;
+  }
+  // Software renderers run fragment shaders on the CPU, where the CPU builder, which shares
+  // each lookup between the two directions of a slab, is about twice as fast (llvmpipe).
+  const char* renderer =
+    context ? reinterpret_cast<const char*>(glGetString(GL_RENDERER)) : nullptr;
+  const std::string name = renderer ? renderer : "";
+  return !name.empty() && name.find("llvmpipe") == std::string::npos &&
+    name.find("softpipe") == std::string::npos && name.find("SwiftShader") == std::string::npos;
 }
 
 //------------------------------------------------------------------------------
@@ -282,19 +315,35 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   const bool volume = table->GetNumberOfDimensions() == 3;
   static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
   static const int bytes[4] = { 4, 1, 2, 4 };
-  this->TableTexture->ReleaseGraphicsResources(context); // a 2D and a 3D table differ in target
-  this->TableTexture->SetContext(context);
-  this->TableTexture->SetInternalFormat(formats[precision]);
-  this->TableTexture->SetFormat(GL_RGBA);
-  this->TableTexture->SetDataType(GL_FLOAT);
-  void* data = table->GetTable()->GetVoidPointer(0);
-  const bool created = volume ? this->TableTexture->Create3DFromRaw(n, n, n, 4, VTK_FLOAT, data)
-                              : this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, data);
-  if (!created)
+  const double start = vtkTimerLog::GetUniversalTime();
+  this->LastTableBuiltOnGPU = volume && !table->GetComputeEntries();
+  if (this->LastTableBuiltOnGPU)
   {
-    vtkErrorMacro("Could not create the " << n << "^" << (volume ? 3 : 2) << " table texture.");
-    return false;
+    // The GPU builder writes the 3D texture itself, (re)creating it as needed.
+    if (!this->GPUBuilder->Build(
+          context, this->SecondOrderTable, this->TableTexture, formats[precision]))
+    {
+      vtkErrorMacro("The GPU could not build the " << n << "^3 table.");
+      return false;
+    }
   }
+  else
+  {
+    this->TableTexture->ReleaseGraphicsResources(context); // 2D and 3D tables differ in target
+    this->TableTexture->SetContext(context);
+    this->TableTexture->SetInternalFormat(formats[precision]);
+    this->TableTexture->SetFormat(GL_RGBA);
+    this->TableTexture->SetDataType(GL_FLOAT);
+    void* data = table->GetTable()->GetVoidPointer(0);
+    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, n, n, 4, VTK_FLOAT, data)
+                                : this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, data);
+    if (!created)
+    {
+      vtkErrorMacro("Could not create the " << n << "^" << (volume ? 3 : 2) << " table texture.");
+      return false;
+    }
+  }
+  this->LastTableBuildTime = table->GetLastBuildTime() + (vtkTimerLog::GetUniversalTime() - start);
   this->TableTexture->SetWrapS(vtkTextureObject::ClampToEdge);
   this->TableTexture->SetWrapT(vtkTextureObject::ClampToEdge);
   this->TableTexture->SetWrapR(vtkTextureObject::ClampToEdge);
@@ -393,6 +442,10 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";
+  os << indent << "SkipEmptySegments: " << this->SkipEmptySegments << "\n";
+  os << indent << "TableBuilder: " << this->TableBuilder << "\n";
+  os << indent << "LastTableBuiltOnGPU: " << this->LastTableBuiltOnGPU << "\n";
+  os << indent << "LastTableBuildTime: " << this->LastTableBuildTime << "\n";
   os << indent << "Iterations: " << this->GetIterations() << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";

@@ -35,6 +35,8 @@
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
 class vtkFirstOrderPreIntegrationTable;
+class vtkOpenGLPreIntegrationTableBuilder;
+class vtkOpenGLRenderWindow;
 class vtkPreIntegrationTable;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
@@ -52,6 +54,13 @@ public:
     STOCK = 0,
     FIRST_ORDER = 1,
     SECOND_ORDER = 2
+  };
+
+  enum TableBuilders
+  {
+    BUILD_AUTOMATIC = 0, ///< on the GPU, unless OpenGL is a software renderer (llvmpipe...)
+    BUILD_ON_CPU = 1,    ///< vtkSMPTools, then uploaded
+    BUILD_ON_GPU = 2 ///< a render pass writes the 3D texture (vtkOpenGLPreIntegrationTableBuilder)
   };
 
   enum TablePrecisions
@@ -95,6 +104,38 @@ public:
    */
   vtkSetClampMacro(TablePrecision, int, PRECISION_AUTOMATIC, PRECISION_FLOAT32);
   vtkGetMacro(TablePrecision, int);
+  ///@}
+
+  ///@{
+  /**
+   * Where the second-order table is built (the first-order table always on the CPU). A
+   * software OpenGL renderer runs the GPU pass on the CPU, slower than the CPU builder.
+   * Initial value is BUILD_AUTOMATIC.
+   */
+  vtkSetClampMacro(TableBuilder, int, BUILD_AUTOMATIC, BUILD_ON_GPU);
+  vtkGetMacro(TableBuilder, int);
+  ///@}
+
+  /**
+   * Whether the last second-order table was built on the GPU.
+   */
+  vtkGetMacro(LastTableBuiltOnGPU, bool);
+
+  /**
+   * Wall time in seconds of the last table build, on the CPU or the GPU (including the
+   * upload or the render passes).
+   */
+  vtkGetMacro(LastTableBuildTime, double);
+
+  ///@{
+  /**
+   * Skip the table fetch of segments (first order) or slabs (second order) whose scalar stays
+   * in one zero-opacity run of the transfer function; the result is the same, the cost lower
+   * where much of the volume is transparent. Initial value is true.
+   */
+  virtual void SetSkipEmptySegments(bool skip);
+  vtkGetMacro(SkipEmptySegments, bool);
+  vtkBooleanMacro(SkipEmptySegments, bool);
   ///@}
 
   ///@{
@@ -158,14 +199,20 @@ protected:
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
+  bool BuildOnGPU(vtkOpenGLRenderWindow* context);
 
   int Integration = FIRST_ORDER;
   int TableSize = 0;
   int TablePrecision = PRECISION_AUTOMATIC;
+  int TableBuilder = BUILD_AUTOMATIC;
+  bool SkipEmptySegments = true;
+  bool LastTableBuiltOnGPU = false;
+  double LastTableBuildTime = 0.0;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
 
   vtkFirstOrderPreIntegrationTable* FirstOrderTable;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
+  vtkOpenGLPreIntegrationTableBuilder* GPUBuilder;
   vtkTextureObject* TableTexture;
   vtkTextureObject* EmptyRunsTexture;
   // What the textures hold: table, its build and precision.

@@ -152,7 +152,7 @@ for frame in range(5):
     window.WaitForCompletion()
     frame_ms.append(1000 * (time.perf_counter() - start))
     builds.append(table.GetBuildCount())
-    build_ms.append(1000 * table.GetLastBuildTime())
+    build_ms.append(1000 * mapper.GetLastTableBuildTime())
 print("transfer function changed every frame: %d^3 table, builds %s, build %.1f ms (median), "
       "frame %.1f ms (median)" % (table.GetTableSize(), builds, sorted(build_ms)[2],
                                   sorted(frame_ms)[2]))

@@ -88,7 +88,11 @@ void hovr_preintStep()
   float sBack = hovr_tableCoord(g_dataPos);
   float runBack = hovr_emptyRun(sBack);
   // Both ends in one zero-opacity run: the segment is empty, no table fetch.
+#if HOVR_SKIP_EMPTY
   if (!g_skip && (runBack < 0.0 || runBack != hovr_runFront))
+#else
+  if (!g_skip)
+#endif
   {
     hovr_compositeSegment(hovr_sFront, sBack, hovr_fraction);
   }

@@ -144,7 +144,11 @@ void hovr_preintStep()
   float sBack = hovr_tableCoord(backPos);
   float runBack = hovr_emptyRun(sBack);
   // Both ends and the extremum in one zero-opacity run: the slab is empty, no table fetch.
+#if HOVR_SKIP_EMPTY
   if (!g_skip && !hovr_slabIsEmpty(hovr_sFront, sMiddle, sBack, hovr_runFront, runBack))
+#else
+  if (!g_skip)
+#endif
   {
     hovr_compositeSlab(hovr_sFront, sMiddle, sBack, 1.0);
   }

@@ -12,8 +12,9 @@
 //     rule, in iteration-table units), each step's (c a, a) interpolated linearly between
 //     two texels of the iteration table, composited front to back.
 // The CPU integrates the pair (i, j, k), (k, j, i) with i <= k from one evaluation of the
-// path of (i, j, k), the reversed entry compositing the same steps backwards (and entry
-// (k, j, k) is written that way last): the shader does the same so that both round alike.
+// path of (i, j, k), the reversed entry compositing the same steps backwards (entry (k, j, k),
+// where the two coincide, keeps the backward result): the shader does the same so that both
+// round alike.
 
 in vec2 texCoord; // (i + 1/2, j + 1/2) / N at the fragment of entry (i, j)
 //VTK::Output::Dec
@@ -49,8 +50,8 @@ uint hovr_ceilDiv(uint x, uint d)
 // double, which can only differ where the range ends exactly on a spacing boundary, and a
 // boundary that is only touched is not entered (the slab adds nothing there: the iteration
 // table is zero at both nodes of an empty spacing). So every slab the CPU finds empty is
-// empty here too. The products stay below 2^32 for tables whose iteration table fits the
-// 65537 samples the CPU allows.
+// empty here too. The product p b^2 <= 16 (Fine - 1)(N - 1) stays below 2^32 for N <= 4096
+// (the CPU keeps Fine - 1 <= 65536).
 ivec2 hovr_enteredSpacings(int i, int j, int k)
 {
   int p = hovr_samplesPerSpacing;
@@ -80,7 +81,7 @@ void main()
   int back = hovr_back;
   if (front == middle && middle == back)
   {
-    fragOutput0 = texelFetch(hovr_diagonal, ivec2(front, 0), 0);
+    gl_FragData[0] = texelFetch(hovr_diagonal, ivec2(front, 0), 0);
     return;
   }
 
@@ -94,7 +95,7 @@ void main()
   float runLast = texelFetch(hovr_stepRuns, hovr_texel(spacings.y), 0).r;
   if (runFirst >= 0.0 && runFirst == runLast)
   {
-    fragOutput0 = vec4(0.0); // inside one zero-opacity run
+    gl_FragData[0] = vec4(0.0); // inside one zero-opacity run
     return;
   }
 
@@ -107,7 +108,9 @@ void main()
   float b = -3.0 * xf + 4.0 * xm - xb;
   float top = float(hovr_fine - 1);
 
-  vec3 color = vec3(0.0);
+  // Front to back: RGBA += T (c a, a), T *= 1 - a. Alpha is accumulated like the colour, not
+  // taken as 1 - T, which in float would lose the opacity of very thin steps.
+  vec4 slab = vec4(0.0);
   float transmittance = 1.0;
   for (int it = 0; it < hovr_iterations; ++it)
   {
@@ -119,8 +122,8 @@ void main()
     vec4 v0 = texelFetch(hovr_steps, hovr_texel(q), 0);
     vec4 v1 = texelFetch(hovr_steps, hovr_texel(q + 1), 0);
     vec4 v = v0 + w * (v1 - v0);
-    color += transmittance * v.rgb;
+    slab += transmittance * v;
     transmittance *= 1.0 - v.a;
   }
-  fragOutput0 = vec4(color, 1.0 - transmittance);
+  gl_FragData[0] = vec4(slab.rgb, min(slab.a, 1.0)); // 1 at most, up to rounding
 }

@@ -119,7 +119,8 @@ class PreIntegrationMethod(Method):
     def statistics(self, mapper):
         table = mapper.GetActiveTable()
         return {"table_size": table.GetTableSize(),
-                "table_build_ms": 1000.0 * table.GetLastBuildTime(),
+                "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
+                "table_on_gpu": bool(mapper.GetLastTableBuiltOnGPU()),
                 "table_builds": table.GetBuildCount(),
                 "table_gpu_bytes": mapper.GetTableTextureMemorySize()}
 
