@@ -248,7 +248,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   if (size <= 0)
   {
     size = secondOrder ? vtkPreIntegrationTable::SuggestTableSize(
-                           scalars->GetDataType(), range, table->GetSampler(), 64, 256, 1.0, true)
+                           scalars->GetDataType(), range, table->GetSampler(), 48, 256, 0.75, true)
                        : vtkPreIntegrationTable::SuggestTableSize(
                            scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
   }
