@@ -88,10 +88,11 @@ public:
    * function (vtkPreIntegrationTable::SuggestTableSize): one entry per integer value of 8-bit
    * data; otherwise, for the 2D table, 8 entries across the narrowest transfer-function
    * feature, between 256 and 1024. The 3D table interpolates integrated slabs, which vary
-   * more slowly than the transfer function: 3 entries per 4 narrowest opacity features,
-   * between 48 and 256 (measured on neghip, fuel, bucky and Marschner-Lobb with narrow
-   * spikes: accuracy is flat from about 0.75 to 1.5 entries per feature and slowly worse
-   * beyond; the smaller table is faster). Values above the OpenGL texture limits, or above
+   * more slowly than the transfer function, the more so the longer the slab: 1.5 / step
+   * entries per narrowest opacity feature (step in voxels), between 48 and 256. Measured on
+   * neghip, fuel, bucky and Marschner-Lobb with narrow spikes, this is within a few percent
+   * of the best size for steps of 0.25 to 2 voxels; a 256^3 table at a 2-voxel step is 3-10%
+   * less accurate and slower than a 64^3 one. Values above the OpenGL texture limits, or above
    * 512 for the 3D table (1 GiB in half floats), are clamped with a warning. Initial value
    * is 0.
    */

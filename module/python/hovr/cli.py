@@ -91,6 +91,18 @@ def build_parser():
     bench.add_argument("--output", default="bench-report", help="output folder "
                        "(default bench-report)")
 
+    tables = commands.add_parser("tables", help="second-order table build times, CPU and GPU",
+                                 description=(
+        "Build the second-order pre-integration table of a transfer function on the CPU and "
+        "on the GPU for several sizes and iteration counts; print the median build times and "
+        "the largest difference between the two tables."))
+    tables.add_argument("--tf", help="transfer function preset (default: neghip-spikes)")
+    tables.add_argument("--sizes", nargs="+", type=_size, default=[64, 128, 192, 256])
+    tables.add_argument("--iterations", nargs="+", type=_size, default=[64])
+    tables.add_argument("--repeat", type=_size, default=3)
+    tables.add_argument("--no-gpu", action="store_true", help="CPU builds only")
+    tables.add_argument("--csv", help="also write the results to this CSV file")
+
     demo = commands.add_parser("demo", help="run the default bench and print a summary")
     demo.add_argument("--output", default="report", help="output folder (default report)")
     demo.add_argument("--config", help="bench configuration (default presets/bench/demo.json)")
@@ -150,10 +162,21 @@ def cmd_demo(args):
     return 0 if rows else 1
 
 
+def cmd_tables(args):
+    from . import bench as hb
+    from . import tables as ht
+    tf = args.tf or os.path.join(hb._project_root(), "presets", "transfer-functions",
+                                 "neghip-spikes.json")
+    rows = ht.measure(tf, args.sizes, args.iterations, args.repeat, gpu=not args.no_gpu)
+    if args.csv:
+        ht.write_csv(rows, args.csv)
+    return 0
+
+
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
-    handlers = {"render": cmd_render, "bench": cmd_bench, "demo": cmd_demo}
+    handlers = {"render": cmd_render, "bench": cmd_bench, "demo": cmd_demo, "tables": cmd_tables}
     try:
         return handlers[args.command](args)
     except HovrError as error:
