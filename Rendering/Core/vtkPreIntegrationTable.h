@@ -21,6 +21,8 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkObject.h"
 
+#include <vector> // For entry scalars
+
 class vtkDataArray;
 class vtkFloatArray;
 class vtkVolumeProperty;
@@ -66,6 +68,40 @@ public:
   vtkSetClampMacro(TableSize, int, 2, 65536);
   vtkGetMacro(TableSize, int);
   ///@}
+
+  ///@{
+  /**
+   * Place the entries where the opacity function is non-zero instead of equispaced: the
+   * scalar range is cut into CoordinateTexels - 1 bins, bins within two narrowest opacity
+   * features of some opacity weigh 1, the others together an eighth of the total, and entry i
+   * sits where the cumulative weight is i / (TableSize - 1). A table of limited size then
+   * resolves narrow features of 16-bit or float data whose range holds far more of them than
+   * the table has entries. Shaders map a scalar to its table coordinate through
+   * GetCoordinateTable(), which is exactly piecewise linear between its texels. Supported by
+   * vtkSecondOrderPreIntegrationTable. Initial value is false.
+   */
+  vtkSetMacro(AdaptiveAxes, bool);
+  vtkGetMacro(AdaptiveAxes, bool);
+  vtkBooleanMacro(AdaptiveAxes, bool);
+  ///@}
+
+  /**
+   * Texels of the coordinate table (see AdaptiveAxes).
+   */
+  static constexpr int CoordinateTexels = 4096;
+
+  /**
+   * Scalar of entry i (equispaced over ScalarRange unless AdaptiveAxes), valid after
+   * Update().
+   */
+  double GetEntryScalar(int i) const;
+
+  /**
+   * The table texture coordinate ((fractional entry index) + 1/2) / TableSize of
+   * CoordinateTexels equispaced scalars over ScalarRange (first and last at its ends), valid
+   * after Update(). Linear interpolation between them is exact.
+   */
+  vtkFloatArray* GetCoordinateTable() { return this->CoordinateTable; }
 
   ///@{
   /**
@@ -144,9 +180,15 @@ protected:
   // Fills EmptyRuns from the prepared sampler.
   void BuildEmptyRuns();
 
+  // Places the entries (EntryScalars) and fills CoordinateTable.
+  void PlaceEntries();
+
   vtkVolumeTransferFunctionSampler* Sampler;
   vtkFloatArray* Table;
   vtkFloatArray* EmptyRuns;
+  vtkFloatArray* CoordinateTable;
+  std::vector<double> EntryScalars;
+  bool AdaptiveAxes = false;
   double SegmentLength = 1.0;
   double ScalarRange[2] = { 0.0, 255.0 };
   int TableSize = 256;

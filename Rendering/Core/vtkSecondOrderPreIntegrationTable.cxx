@@ -31,14 +31,36 @@ vtkSecondOrderPreIntegrationTable::~vtkSecondOrderPreIntegrationTable()
 //------------------------------------------------------------------------------
 void vtkSecondOrderPreIntegrationTable::BuildIterationTable()
 {
-  const double tableSpacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (this->TableSize - 1);
+  const int n = this->TableSize;
+  const double width = this->ScalarRange[1] - this->ScalarRange[0];
+  const double tableSpacing = width / (n - 1);
   const double feature = this->Sampler->GetSmallestFeature();
   const double wanted = std::ceil(16.0 * tableSpacing / feature);
   this->IterationSamplesPerSpacing =
-    static_cast<int>(std::max(8.0, std::min(wanted, 65536.0 / (this->TableSize - 1))));
-  const int fine = this->IterationSamplesPerSpacing * (this->TableSize - 1) + 1;
+    static_cast<int>(std::max(8.0, std::min(wanted, 65536.0 / (n - 1))));
+  int fine = this->IterationSamplesPerSpacing * (n - 1) + 1;
+  this->EntryPositions.resize(n);
+  if (this->AdaptiveAxes)
+  {
+    // Entries are not equispaced: a grid fine enough for 16 samples per narrowest feature
+    // over the whole range, with the entries at fractional positions in it.
+    fine = static_cast<int>(
+      std::max(static_cast<double>(fine), std::min(16.0 * width / feature, 1048576.0) + 1.0));
+    for (int i = 0; i < n; ++i)
+    {
+      this->EntryPositions[i] =
+        (this->GetEntryScalar(i) - this->ScalarRange[0]) / width * (fine - 1.0);
+    }
+  }
+  else
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      this->EntryPositions[i] = static_cast<double>(this->IterationSamplesPerSpacing) * i;
+    }
+  }
   const double s0 = this->ScalarRange[0];
-  const double spacing = (this->ScalarRange[1] - s0) / (fine - 1);
+  const double spacing = width / (fine - 1);
   // The last sample exactly at ScalarRange[1]: s0 + (fine - 1) spacing can miss it by a
   // rounding error, which matters for a transfer-function step at the range end.
   const double s1 = this->ScalarRange[1];
@@ -78,13 +100,13 @@ class SlabIntegrator
 {
 public:
   int N;
-  int PerEntry;
+  const double* Positions; // of the entries, in iteration-table samples
+  const double* Scalars;   // of the entries
   int Fine;
   int Iterations;
   double Length;
   double S0;
   double S1;
-  double Spacing;
   const float* Steps;
   const float* Runs;
   const vtkVolumeTransferFunctionSampler* Sampler;
@@ -109,7 +131,6 @@ public:
   // keeps the processor busy instead of waiting on one chain.
   void IntegrateBatch(const int* fronts, int count, int j, int k, Scratch& scratch) const
   {
-    const float perEntry = static_cast<float>(this->PerEntry);
     const int n = this->Iterations;
     const float h = 1.0f / n;
     const float top = static_cast<float>(this->Fine - 1);
@@ -117,7 +138,9 @@ public:
     {
       // Eq. 2 in units of iteration-table samples; P(t) by Horner's rule in float, as the
       // GPU builder does. The loops are split so that the first two vectorise.
-      const float xf = perEntry * fronts[lane], xm = perEntry * j, xb = perEntry * k;
+      const float xf = static_cast<float>(this->Positions[fronts[lane]]);
+      const float xm = static_cast<float>(this->Positions[j]);
+      const float xb = static_cast<float>(this->Positions[k]);
       const float a = 2.0f * xf - 4.0f * xm + 2.0f * xb;
       const float b = -3.0f * xf + 4.0f * xm - xb;
       float* x = scratch.X.data();
@@ -187,7 +210,6 @@ public:
 
   void operator()(vtkIdType kBegin, vtkIdType kEnd) const
   {
-    const double perEntry = this->PerEntry;
     Scratch scratch;
     scratch.X.resize(this->Iterations);
     scratch.W.resize(this->Iterations);
@@ -205,7 +227,8 @@ public:
           float* forward = this->Entry(i, j, k);
           float* backward = this->Entry(k, j, i);
           // The range of P over [0, 1]: its ends, and its extremum when inside.
-          const double xf = perEntry * i, xm = perEntry * j, xb = perEntry * k;
+          const double xf = this->Positions[i], xm = this->Positions[j];
+          const double xb = this->Positions[k];
           const double a = 2.0 * xf - 4.0 * xm + 2.0 * xb;
           const double b = -3.0 * xf + 4.0 * xm - xb;
           double lo = std::min(xf, xb), hi = std::max(xf, xb);
@@ -222,9 +245,11 @@ public:
           {
             // Constant scalar (the table diagonal, or clamped): the exact exponential.
             double rgbTau[4];
-            // Entry N - 1 exactly at S1 (see BuildIterationTable).
-            this->Sampler->Evaluate(
-              lo == this->Fine - 1.0 ? this->S1 : this->S0 + lo / perEntry * this->Spacing, rgbTau);
+            // The exact scalar: a range end when clamped, else the entry's own.
+            this->Sampler->Evaluate(lo <= 0.0 ? this->S0
+                : lo >= this->Fine - 1.0      ? this->S1
+                                              : this->Scalars[i],
+              rgbTau);
             const double alpha = -std::expm1(-rgbTau[3] * this->Length);
             for (float* out : { forward, backward })
             {
@@ -270,13 +295,13 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   }
   SlabIntegrator integrator;
   integrator.N = this->TableSize;
-  integrator.PerEntry = this->IterationSamplesPerSpacing;
-  integrator.Fine = this->IterationSamplesPerSpacing * (this->TableSize - 1) + 1;
+  integrator.Positions = this->EntryPositions.data();
+  integrator.Scalars = this->EntryScalars.data();
+  integrator.Fine = this->IterationTable->GetNumberOfTuples();
   integrator.Iterations = this->Iterations;
   integrator.Length = this->SegmentLength;
   integrator.S0 = this->ScalarRange[0];
   integrator.S1 = this->ScalarRange[1];
-  integrator.Spacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (this->TableSize - 1);
   integrator.Steps = this->IterationTable->GetPointer(0);
   integrator.Runs = this->IterationEmptyRuns->GetPointer(0);
   integrator.Sampler = this->Sampler;

@@ -47,7 +47,9 @@ public:
 
   /**
    * Samples of the iteration table per table spacing in the last build: at least 8, and
-   * enough for 16 samples across the narrowest transfer-function feature. The iteration
+   * enough for 16 samples across the narrowest transfer-function feature. With AdaptiveAxes
+   * the entries are not equispaced and the iteration table may be finer still (16 samples
+   * per narrowest feature over the whole range); GPU builders then do not apply. The iteration
    * table samples the transfer function densely over the scalar range; each step of the
    * integration reads it with linear interpolation.
    */
@@ -86,6 +88,7 @@ protected:
 
   int Iterations = 64;
   int IterationSamplesPerSpacing = 8;
+  std::vector<double> EntryPositions; // in iteration-table samples
   vtkFloatArray* IterationTable;
   vtkFloatArray* IterationEmptyRuns;
 

@@ -38,6 +38,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
+  , CoordinatesTexture(vtkTextureObject::New())
 {
 }
 
@@ -49,6 +50,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
+  this->CoordinatesTexture->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -245,22 +247,38 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
                                   : vtkTextureObject::GetMaximumTextureSize(context);
   int size = this->TableSize;
+  bool adaptive = false;
   if (size <= 0)
   {
-    // The 3D table interpolates whole slabs: the shorter the slab (in voxels), the closer
-    // to the diagonal its entries, the finer the table must be (measured optimum: about
-    // 1.5 / step entries per narrowest opacity feature, step in voxels).
-    double spacing[3];
-    input->GetSpacing(spacing);
-    const double minimumSpacing =
-      std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
-    const double stepInVoxels =
-      this->SampleDistance / (minimumSpacing > 0.0 ? minimumSpacing : 1.0);
-    size = secondOrder
-      ? vtkPreIntegrationTable::SuggestTableSize(
-          scalars->GetDataType(), range, table->GetSampler(), 48, 256, 1.5 / stepInVoxels, true)
-      : vtkPreIntegrationTable::SuggestTableSize(
-          scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
+    if (secondOrder)
+    {
+      // The 3D table interpolates whole slabs: the shorter the slab (in voxels), the closer
+      // to the diagonal its entries, the finer the table must be (measured optimum: about
+      // 1.5 / step entries per narrowest opacity feature, step in voxels). When the range
+      // holds more than 256 such entries, they are concentrated where the opacity is.
+      double spacing[3];
+      input->GetSpacing(spacing);
+      const double minimumSpacing =
+        std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
+      const double stepInVoxels =
+        this->SampleDistance / (minimumSpacing > 0.0 ? minimumSpacing : 1.0);
+      const double perFeature = 1.5 / stepInVoxels;
+      size = vtkPreIntegrationTable::SuggestTableSize(
+        scalars->GetDataType(), range, table->GetSampler(), 48, 256, perFeature, true);
+      const double feature = table->GetSampler()->GetSmallestOpacityFeature();
+      adaptive = perFeature * (range[1] - range[0]) / feature + 1.0 > 256.0;
+    }
+    else
+    {
+      size = vtkPreIntegrationTable::SuggestTableSize(
+        scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
+    }
+  }
+  table->SetAdaptiveAxes(adaptive);
+  if (adaptive != this->AdaptiveAxesInShader)
+  {
+    this->AdaptiveAxesInShader = adaptive;
+    this->ExtensionShaderModified();
   }
   if (maxSize > 0 && size > maxSize)
   {
@@ -277,19 +295,23 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
   table->SetTableSize(size);
   // A GPU build integrates from what Update() prepares; the CPU then skips the entries.
-  this->SecondOrderTable->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
+  // Adaptive axes need the CPU builder.
+  this->SecondOrderTable->SetComputeEntries(
+    !(secondOrder && !adaptive && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
     return DrawNothing;
   }
 
-  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
+  // raw texture value -> data value -> table texture coordinate (entries at texel centres),
+  // or, with adaptive axes, the texture coordinate of the coordinate table.
   double scale, shift;
   vtkPreIntegrationVolumeMapper::GetTextureValueMapping(scalars, scale, shift);
-  const double toIndex = (size - 1.0) / (range[1] - range[0]);
-  this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
-  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
+  const int texels = adaptive ? vtkPreIntegrationTable::CoordinateTexels : size;
+  const double toIndex = (texels - 1.0) / (range[1] - range[0]);
+  this->RawToTable[0] = static_cast<float>(scale * toIndex / texels);
+  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / texels);
   return DrawWithExtension;
 }
 
@@ -372,11 +394,31 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   }
   this->EmptyRunsTexture->SetMinificationFilter(vtkTextureObject::Nearest);
   this->EmptyRunsTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  if (table->GetAdaptiveAxes())
+  {
+    this->CoordinatesTexture->SetContext(context);
+    this->CoordinatesTexture->SetInternalFormat(GL_R32F);
+    this->CoordinatesTexture->SetFormat(GL_RED);
+    this->CoordinatesTexture->SetDataType(GL_FLOAT);
+    if (!this->CoordinatesTexture->Create2DFromRaw(vtkPreIntegrationTable::CoordinateTexels,
+          1,
+          1,
+          VTK_FLOAT,
+          table->GetCoordinateTable()->GetVoidPointer(0)))
+    {
+      vtkErrorMacro("Could not create the coordinate texture.");
+      return false;
+    }
+    this->CoordinatesTexture->SetWrapS(vtkTextureObject::ClampToEdge);
+    this->CoordinatesTexture->SetMinificationFilter(vtkTextureObject::Linear);
+    this->CoordinatesTexture->SetMagnificationFilter(vtkTextureObject::Linear);
+  }
   this->UploadedTable = table;
   this->UploadedBuildCount = table->GetBuildCount();
   this->UploadedPrecision = precision;
   vtkIdType entries = static_cast<vtkIdType>(n) * n * (volume ? n : 1);
-  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4;
+  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4 +
+    (table->GetAdaptiveAxes() ? vtkPreIntegrationTable::CoordinateTexels * 4 : 0);
   return true;
 }
 
@@ -385,6 +427,10 @@ void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
 {
   this->TableTexture->Activate();
   this->EmptyRunsTexture->Activate();
+  if (this->AdaptiveAxesInShader)
+  {
+    this->CoordinatesTexture->Activate();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -392,6 +438,10 @@ void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
 {
   this->TableTexture->Deactivate();
   this->EmptyRunsTexture->Deactivate();
+  if (this->AdaptiveAxesInShader)
+  {
+    this->CoordinatesTexture->Deactivate();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -411,11 +461,15 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
-  // Declared late, after every uniform and global the functions use.
+  // Declared late, after every uniform and global the functions use; the switches of the
+  // GLSL first.
+  const std::string switches = std::string("#define HOVR_SKIP_EMPTY ") +
+    (this->SkipEmptySegments && !this->AdaptiveAxesInShader ? "1" : "0") +
+    "\n#define HOVR_ADAPTIVE_AXES " + (this->AdaptiveAxesInShader ? "1" : "0") + "\n";
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
-      this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1,
+      switches + (this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1),
       true);
   if (!ok)
   {
@@ -430,6 +484,10 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
 {
   program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
   program->SetUniformi("hovr_emptyRuns", this->EmptyRunsTexture->GetTextureUnit());
+  if (this->AdaptiveAxesInShader)
+  {
+    program->SetUniformi("hovr_coordinates", this->CoordinatesTexture->GetTextureUnit());
+  }
   program->SetUniformi("hovr_tableSize", this->GetActiveTable()->GetTableSize());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
@@ -440,6 +498,7 @@ void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
   this->EmptyRunsTexture->ReleaseGraphicsResources(window);
+  this->CoordinatesTexture->ReleaseGraphicsResources(window);
   this->UploadedTable = nullptr;
   this->UploadedBuildCount = -1;
   this->TableTextureMemorySize = 0;
