@@ -14,7 +14,6 @@ vtkPreIntegrationTable::vtkPreIntegrationTable()
   : Sampler(vtkVolumeTransferFunctionSampler::New())
   , Table(vtkFloatArray::New())
   , EmptyRuns(vtkFloatArray::New())
-  , CoordinateTable(vtkFloatArray::New())
 {
   this->Table->SetNumberOfComponents(4);
   this->Table->SetName("PreIntegrationTable");
@@ -27,7 +26,6 @@ vtkPreIntegrationTable::~vtkPreIntegrationTable()
   this->Sampler->Delete();
   this->Table->Delete();
   this->EmptyRuns->Delete();
-  this->CoordinateTable->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -74,7 +72,6 @@ bool vtkPreIntegrationTable::Update()
   }
   const double start = vtkTimerLog::GetUniversalTime();
   this->Table->SetNumberOfTuples(this->ComputeEntries ? entries : 0);
-  this->PlaceEntries();
   this->BuildTable();
   this->BuildEmptyRuns();
   this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;
@@ -87,95 +84,22 @@ bool vtkPreIntegrationTable::Update()
 void vtkPreIntegrationTable::BuildEmptyRuns()
 {
   const int n = this->TableSize;
+  const double spacing = (this->ScalarRange[1] - this->ScalarRange[0]) / (n - 1);
   this->EmptyRuns->SetNumberOfTuples(n - 1);
   int run = -1;
   bool inRun = false;
   for (int b = 0; b < n - 1; ++b)
   {
+    const double s0 = this->ScalarRange[0] + b * spacing;
     // Exact: VTK's interpolation is monotone between nodes.
-    const bool empty =
-      this->Sampler->GetMaximumOpacity(this->EntryScalars[b], this->EntryScalars[b + 1]) <= 0.0;
+    const double margin = this->GetEmptyRunMargin();
+    const bool empty = this->Sampler->GetMaximumOpacity(s0 - margin, s0 + spacing + margin) <= 0.0;
     if (empty && !inRun)
     {
       ++run;
     }
     inRun = empty;
     this->EmptyRuns->SetValue(b, empty ? static_cast<float>(run) : -1.0f);
-  }
-}
-
-//------------------------------------------------------------------------------
-double vtkPreIntegrationTable::GetEntryScalar(int i) const
-{
-  return i >= 0 && i < static_cast<int>(this->EntryScalars.size()) ? this->EntryScalars[i]
-                                                                   : this->ScalarRange[0];
-}
-
-//------------------------------------------------------------------------------
-void vtkPreIntegrationTable::PlaceEntries()
-{
-  const int n = this->TableSize;
-  const double r0 = this->ScalarRange[0], r1 = this->ScalarRange[1];
-  const int bins = CoordinateTexels - 1;
-  const double binWidth = (r1 - r0) / bins;
-  // Cumulative weight at the bin edges, normalised to [0, 1].
-  std::vector<double> cumulative(bins + 1, 0.0);
-  if (this->AdaptiveAxes)
-  {
-    const double feature = std::min(this->Sampler->GetSmallestOpacityFeature(), r1 - r0);
-    const double margin = 2.0 * feature;
-    std::vector<bool> active(bins);
-    int count = 0;
-    for (int k = 0; k < bins; ++k)
-    {
-      const double a = r0 + k * binWidth;
-      active[k] = this->Sampler->GetMaximumOpacity(a - margin, a + binWidth + margin) > 0.0;
-      count += active[k] ? 1 : 0;
-    }
-    // The inactive bins together weigh an eighth of the total (when there are both).
-    const double idle = count > 0 && count < bins ? (count / 7.0) / (bins - count) : 1.0;
-    for (int k = 0; k < bins; ++k)
-    {
-      cumulative[k + 1] = cumulative[k] + (active[k] ? 1.0 : idle);
-    }
-  }
-  else
-  {
-    for (int k = 0; k < bins; ++k)
-    {
-      cumulative[k + 1] = k + 1.0;
-    }
-  }
-  const double total = cumulative[bins];
-  this->CoordinateTable->SetNumberOfTuples(bins + 1);
-  for (int k = 0; k <= bins; ++k)
-  {
-    cumulative[k] /= total;
-    this->CoordinateTable->SetValue(k, static_cast<float>((cumulative[k] * (n - 1) + 0.5) / n));
-  }
-  // Entry i where the cumulative weight reaches i / (n - 1); the ends exactly at the range.
-  this->EntryScalars.resize(n);
-  int k = 0;
-  for (int i = 0; i < n; ++i)
-  {
-    const double target = static_cast<double>(i) / (n - 1);
-    while (k < bins - 1 && cumulative[k + 1] < target)
-    {
-      ++k;
-    }
-    const double width = cumulative[k + 1] - cumulative[k];
-    const double f = width > 0.0 ? (target - cumulative[k]) / width : 0.0;
-    this->EntryScalars[i] = r0 + (k + std::min(std::max(f, 0.0), 1.0)) * binWidth;
-  }
-  this->EntryScalars[0] = r0;
-  this->EntryScalars[n - 1] = r1;
-  if (!this->AdaptiveAxes)
-  {
-    // Equispaced entries exactly as r0 + i (r1 - r0) / (n - 1), which the tables assume.
-    for (int i = 1; i < n - 1; ++i)
-    {
-      this->EntryScalars[i] = r0 + i * (r1 - r0) / (n - 1);
-    }
   }
 }
 

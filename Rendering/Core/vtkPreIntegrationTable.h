@@ -21,8 +21,6 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkObject.h"
 
-#include <vector> // For entry scalars
-
 class vtkDataArray;
 class vtkFloatArray;
 class vtkVolumeProperty;
@@ -71,40 +69,6 @@ public:
 
   ///@{
   /**
-   * Place the entries where the opacity function is non-zero instead of equispaced: the
-   * scalar range is cut into CoordinateTexels - 1 bins, bins within two narrowest opacity
-   * features of some opacity weigh 1, the others together an eighth of the total, and entry i
-   * sits where the cumulative weight is i / (TableSize - 1). A table of limited size then
-   * resolves narrow features of 16-bit or float data whose range holds far more of them than
-   * the table has entries. Shaders map a scalar to its table coordinate through
-   * GetCoordinateTable(), which is exactly piecewise linear between its texels. Supported by
-   * vtkSecondOrderPreIntegrationTable. Initial value is false.
-   */
-  vtkSetMacro(AdaptiveAxes, bool);
-  vtkGetMacro(AdaptiveAxes, bool);
-  vtkBooleanMacro(AdaptiveAxes, bool);
-  ///@}
-
-  /**
-   * Texels of the coordinate table (see AdaptiveAxes).
-   */
-  static constexpr int CoordinateTexels = 4096;
-
-  /**
-   * Scalar of entry i (equispaced over ScalarRange unless AdaptiveAxes), valid after
-   * Update().
-   */
-  double GetEntryScalar(int i) const;
-
-  /**
-   * The table texture coordinate ((fractional entry index) + 1/2) / TableSize of
-   * CoordinateTexels equispaced scalars over ScalarRange (first and last at its ends), valid
-   * after Update(). Linear interpolation between them is exact.
-   */
-  vtkFloatArray* GetCoordinateTable() { return this->CoordinateTable; }
-
-  ///@{
-  /**
    * Whether Update() computes the entries. When false it still tracks changes, counts builds
    * and prepares what the entries are computed from (empty runs, and what a subclass needs),
    * leaving the entries to another builder such as a GPU pass; GetTable() is then empty.
@@ -131,8 +95,9 @@ public:
    * the table spacing [entry b, entry b + 1]; it is -1 when the opacity is positive somewhere
    * in that spacing, otherwise the index of the run of consecutive zero-opacity spacings it
    * belongs to. A segment whose end scalars both lie in spacings of the same run has zero
-   * opacity everywhere (the scalar stays between them) and contributes nothing. Valid after
-   * Update().
+   * opacity everywhere (the scalar stays between them) and contributes nothing. A table that
+   * prefilters the transfer function counts opacity within its filter margin of the spacing.
+   * Valid after Update().
    */
   vtkFloatArray* GetEmptyRuns() { return this->EmptyRuns; }
 
@@ -180,15 +145,13 @@ protected:
   // Fills EmptyRuns from the prepared sampler.
   void BuildEmptyRuns();
 
-  // Places the entries (EntryScalars) and fills CoordinateTable.
-  void PlaceEntries();
+  // Scalar margin around each spacing within which opacity makes it non-empty: a table that
+  // filters the transfer function spreads opacity that far.
+  virtual double GetEmptyRunMargin() const { return 0.0; }
 
   vtkVolumeTransferFunctionSampler* Sampler;
   vtkFloatArray* Table;
   vtkFloatArray* EmptyRuns;
-  vtkFloatArray* CoordinateTable;
-  std::vector<double> EntryScalars;
-  bool AdaptiveAxes = false;
   double SegmentLength = 1.0;
   double ScalarRange[2] = { 0.0, 255.0 };
   int TableSize = 256;

@@ -16,7 +16,9 @@ vtkStandardNewMacro(vtkSecondOrderPreIntegrationTable);
 vtkSecondOrderPreIntegrationTable::vtkSecondOrderPreIntegrationTable()
   : IterationTable(vtkFloatArray::New())
   , IterationEmptyRuns(vtkFloatArray::New())
+  , DiagonalTable(vtkFloatArray::New())
 {
+  this->DiagonalTable->SetNumberOfComponents(4);
   this->IterationTable->SetNumberOfComponents(4);
   this->SegmentLength = 2.0;
 }
@@ -26,6 +28,7 @@ vtkSecondOrderPreIntegrationTable::~vtkSecondOrderPreIntegrationTable()
 {
   this->IterationTable->Delete();
   this->IterationEmptyRuns->Delete();
+  this->DiagonalTable->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -36,54 +39,141 @@ void vtkSecondOrderPreIntegrationTable::BuildIterationTable()
   const double tableSpacing = width / (n - 1);
   const double feature = this->Sampler->GetSmallestFeature();
   const double wanted = std::ceil(16.0 * tableSpacing / feature);
-  this->IterationSamplesPerSpacing =
-    static_cast<int>(std::max(8.0, std::min(wanted, 65536.0 / (n - 1))));
-  int fine = this->IterationSamplesPerSpacing * (n - 1) + 1;
-  this->EntryPositions.resize(n);
-  if (this->AdaptiveAxes)
-  {
-    // Entries are not equispaced: a grid fine enough for 16 samples per narrowest feature
-    // over the whole range, with the entries at fractional positions in it.
-    fine = static_cast<int>(
-      std::max(static_cast<double>(fine), std::min(16.0 * width / feature, 1048576.0) + 1.0));
-    for (int i = 0; i < n; ++i)
-    {
-      this->EntryPositions[i] =
-        (this->GetEntryScalar(i) - this->ScalarRange[0]) / width * (fine - 1.0);
-    }
-  }
-  else
-  {
-    for (int i = 0; i < n; ++i)
-    {
-      this->EntryPositions[i] = static_cast<double>(this->IterationSamplesPerSpacing) * i;
-    }
-  }
+  // Even, so that the prefilter's box ends fall on samples; Fine - 1 <= 65536.
+  this->IterationSamplesPerSpacing = 2 *
+    static_cast<int>(
+      std::max(4.0, std::min(std::ceil(0.5 * wanted), std::floor(32768.0 / (n - 1)))));
+  const int p = this->IterationSamplesPerSpacing;
+  const int fine = p * (n - 1) + 1; // entry i at sample p i
   const double s0 = this->ScalarRange[0];
   const double spacing = width / (fine - 1);
   // The last sample exactly at ScalarRange[1]: s0 + (fine - 1) spacing can miss it by a
   // rounding error, which matters for a transfer-function step at the range end.
   const double s1 = this->ScalarRange[1];
-  auto scalar = [&](int q) { return q == fine - 1 ? s1 : s0 + q * spacing; };
-  const double step = this->SegmentLength / this->Iterations;
-  this->IterationTable->SetNumberOfTuples(fine);
-  float* values = this->IterationTable->GetPointer(0);
+  const double top = fine - 1.0;
+  auto scalar = [&](double x) { return x >= top ? s1 : s0 + x * spacing; };
+
+  // Extinction and extinction-weighted colour at the samples, and (prefiltered) their box
+  // averages over one local entry spacing.
+  std::vector<double> point(4 * static_cast<size_t>(fine));
   for (int q = 0; q < fine; ++q)
   {
     double rgbTau[4];
     this->Sampler->Evaluate(scalar(q), rgbTau);
-    const double alpha = -std::expm1(-rgbTau[3] * step);
-    values[4 * q + 0] = static_cast<float>(rgbTau[0] * alpha);
-    values[4 * q + 1] = static_cast<float>(rgbTau[1] * alpha);
-    values[4 * q + 2] = static_cast<float>(rgbTau[2] * alpha);
-    values[4 * q + 3] = static_cast<float>(alpha);
+    for (int c = 0; c < 3; ++c)
+    {
+      point[4 * q + c] = rgbTau[c] * rgbTau[3];
+    }
+    point[4 * q + 3] = rgbTau[3];
   }
+  // Half an entry spacing, in samples: the half-width of the box filter.
+  const int halfWidth = this->Prefilter ? p / 2 : 0;
+  std::vector<double> filtered;
+  if (this->Prefilter)
+  {
+    // Integral from sample 0 to each sample, by Simpson's rule on Panels panels per spacing:
+    // the extinction curves sharply where the opacity nears 1 and kinks at the transfer
+    // function's nodes, which the samples alone would integrate coarsely. p is even, so the
+    // box ends q +- p / 2 fall on samples.
+    constexpr int Panels = 4;
+    std::vector<double> integral(4 * static_cast<size_t>(fine), 0.0);
+    for (int q = 1; q < fine; ++q)
+    {
+      double sum[4] = { 0.0, 0.0, 0.0, 0.0 };
+      for (int m = 0; m <= 2 * Panels; ++m)
+      {
+        const double weight = m == 0 || m == 2 * Panels ? 1.0 : m % 2 ? 4.0 : 2.0;
+        const double* v = nullptr;
+        double rgbTau[4], inner[4];
+        if (m == 0 || m == 2 * Panels)
+        {
+          v = &point[4 * (m == 0 ? q - 1 : q)];
+        }
+        else
+        {
+          this->Sampler->Evaluate(scalar(q - 1 + 0.5 * m / Panels), rgbTau);
+          for (int c = 0; c < 3; ++c)
+          {
+            inner[c] = rgbTau[c] * rgbTau[3];
+          }
+          inner[3] = rgbTau[3];
+          v = inner;
+        }
+        for (int c = 0; c < 4; ++c)
+        {
+          sum[c] += weight * v[c];
+        }
+      }
+      for (int c = 0; c < 4; ++c)
+      {
+        integral[4 * q + c] = integral[4 * (q - 1) + c] + sum[c] / (6.0 * Panels);
+      }
+    }
+    filtered.resize(point.size());
+    for (int q = 0; q < fine; ++q)
+    {
+      // Centred, and narrowing to nothing at the range ends: data exactly at an end (often
+      // saturated or clamped values) keeps that end's exact transfer function.
+      const int h = std::min(halfWidth, std::min(q, fine - 1 - q));
+      for (int c = 0; c < 4; ++c)
+      {
+        filtered[4 * q + c] = h > 0
+          ? (integral[4 * (q + h) + c] - integral[4 * (q - h) + c]) / (2.0 * h)
+          : point[4 * q + c];
+      }
+    }
+  }
+  const std::vector<double>& values = this->Prefilter ? filtered : point;
+
+  // One integration step, and a whole slab of constant scalar (the exact exponential).
+  auto slab = [&](const double* v, double length, float* out)
+  {
+    const double alpha = -std::expm1(-v[3] * length);
+    const double scale = v[3] > 0.0 ? alpha / v[3] : 0.0; // colour = v[c] / tau
+    for (int c = 0; c < 3; ++c)
+    {
+      out[c] = static_cast<float>(v[c] * scale);
+    }
+    out[3] = static_cast<float>(alpha);
+  };
+  const double step = this->SegmentLength / this->Iterations;
+  this->IterationTable->SetNumberOfTuples(fine);
+  float* steps = this->IterationTable->GetPointer(0);
+  for (int q = 0; q < fine; ++q)
+  {
+    slab(&values[4 * q], step, steps + 4 * q);
+  }
+  this->DiagonalTable->SetNumberOfTuples(n);
+  for (int i = 0; i < n; ++i)
+  {
+    double v[4];
+    if (this->Prefilter)
+    {
+      std::copy(&filtered[4 * p * i], &filtered[4 * p * i] + 4, v);
+    }
+    else
+    {
+      // The exact scalar of the entry, the last one exactly at the range end.
+      double rgbTau[4];
+      this->Sampler->Evaluate(scalar(static_cast<double>(p) * i), rgbTau);
+      for (int c = 0; c < 3; ++c)
+      {
+        v[c] = rgbTau[c] * rgbTau[3];
+      }
+      v[3] = rgbTau[3];
+    }
+    slab(v, this->SegmentLength, this->DiagonalTable->GetPointer(4 * i));
+  }
+
+  // Zero-opacity runs of the (filtered) iteration table: a spacing is empty when the transfer
+  // function has no opacity within half an entry spacing of it.
   this->IterationEmptyRuns->SetNumberOfTuples(fine - 1);
   int run = -1;
   bool inRun = false;
   for (int q = 0; q < fine - 1; ++q)
   {
-    const bool empty = this->Sampler->GetMaximumOpacity(scalar(q), scalar(q + 1)) <= 0.0;
+    const bool empty = this->Sampler->GetMaximumOpacity(scalar(std::max(q - halfWidth, 0)),
+                         scalar(std::min(q + 1 + halfWidth, fine - 1))) <= 0.0;
     run += empty && !inRun ? 1 : 0;
     inRun = empty;
     this->IterationEmptyRuns->SetValue(q, empty ? static_cast<float>(run) : -1.0f);
@@ -100,16 +190,12 @@ class SlabIntegrator
 {
 public:
   int N;
-  const double* Positions; // of the entries, in iteration-table samples
-  const double* Scalars;   // of the entries
+  int PerSpacing; // iteration-table samples per entry spacing: entry i at sample PerSpacing i
+  const float* Diagonal; // constant-scalar slab of each entry
   int Fine;
   int Iterations;
-  double Length;
-  double S0;
-  double S1;
   const float* Steps;
   const float* Runs;
-  const vtkVolumeTransferFunctionSampler* Sampler;
   float* Table;
 
   float* Entry(int front, int middle, int back) const
@@ -138,9 +224,9 @@ public:
     {
       // Eq. 2 in units of iteration-table samples; P(t) by Horner's rule in float, as the
       // GPU builder does. The loops are split so that the first two vectorise.
-      const float xf = static_cast<float>(this->Positions[fronts[lane]]);
-      const float xm = static_cast<float>(this->Positions[j]);
-      const float xb = static_cast<float>(this->Positions[k]);
+      const float xf = static_cast<float>(this->PerSpacing * fronts[lane]);
+      const float xm = static_cast<float>(this->PerSpacing * j);
+      const float xb = static_cast<float>(this->PerSpacing * k);
       const float a = 2.0f * xf - 4.0f * xm + 2.0f * xb;
       const float b = -3.0f * xf + 4.0f * xm - xb;
       float* x = scratch.X.data();
@@ -227,8 +313,8 @@ public:
           float* forward = this->Entry(i, j, k);
           float* backward = this->Entry(k, j, i);
           // The range of P over [0, 1]: its ends, and its extremum when inside.
-          const double xf = this->Positions[i], xm = this->Positions[j];
-          const double xb = this->Positions[k];
+          const double xf = this->PerSpacing * i, xm = this->PerSpacing * j;
+          const double xb = this->PerSpacing * k;
           const double a = 2.0 * xf - 4.0 * xm + 2.0 * xb;
           const double b = -3.0 * xf + 4.0 * xm - xb;
           double lo = std::min(xf, xb), hi = std::max(xf, xb);
@@ -243,21 +329,15 @@ public:
           hi = std::min(hi, this->Fine - 1.0);
           if (hi == lo)
           {
-            // Constant scalar (the table diagonal, or clamped): the exact exponential.
-            double rgbTau[4];
-            // The exact scalar: a range end when clamped, else the entry's own.
-            this->Sampler->Evaluate(lo <= 0.0 ? this->S0
-                : lo >= this->Fine - 1.0      ? this->S1
-                                              : this->Scalars[i],
-              rgbTau);
-            const double alpha = -std::expm1(-rgbTau[3] * this->Length);
-            for (float* out : { forward, backward })
-            {
-              out[0] = static_cast<float>(rgbTau[0] * alpha);
-              out[1] = static_cast<float>(rgbTau[1] * alpha);
-              out[2] = static_cast<float>(rgbTau[2] * alpha);
-              out[3] = static_cast<float>(alpha);
-            }
+            // Constant scalar (the table diagonal, or clamped to a range end): the exact
+            // exponential.
+            const float* v = this->Diagonal +
+              4 *
+                (lo <= 0.0                   ? 0
+                    : lo >= this->Fine - 1.0 ? this->N - 1
+                                             : i);
+            std::copy(v, v + 4, forward);
+            std::copy(v, v + 4, backward);
             continue;
           }
           const int qlo = std::min(static_cast<int>(lo), this->Fine - 2);
@@ -295,19 +375,23 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   }
   SlabIntegrator integrator;
   integrator.N = this->TableSize;
-  integrator.Positions = this->EntryPositions.data();
-  integrator.Scalars = this->EntryScalars.data();
+  integrator.PerSpacing = this->IterationSamplesPerSpacing;
+  integrator.Diagonal = this->DiagonalTable->GetPointer(0);
   integrator.Fine = this->IterationTable->GetNumberOfTuples();
   integrator.Iterations = this->Iterations;
-  integrator.Length = this->SegmentLength;
-  integrator.S0 = this->ScalarRange[0];
-  integrator.S1 = this->ScalarRange[1];
   integrator.Steps = this->IterationTable->GetPointer(0);
   integrator.Runs = this->IterationEmptyRuns->GetPointer(0);
-  integrator.Sampler = this->Sampler;
   integrator.Table = this->Table->GetPointer(0);
   // Slice k integrates k + 1 pairs: many small tasks keep both cores busy.
   vtkSMPTools::For(0, this->TableSize, 1, integrator);
+}
+
+//------------------------------------------------------------------------------
+double vtkSecondOrderPreIntegrationTable::GetEmptyRunMargin() const
+{
+  return this->Prefilter
+    ? 0.5 * (this->ScalarRange[1] - this->ScalarRange[0]) / (this->TableSize - 1)
+    : 0.0;
 }
 
 //------------------------------------------------------------------------------
@@ -326,4 +410,5 @@ void vtkSecondOrderPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "Prefilter: " << (this->Prefilter ? "On" : "Off") << "\n";
 }

@@ -20,7 +20,9 @@
  * to 1/8 of their spread, the trilinear field never leaves the data range. A slab whose
  * scalar stays inside one zero-opacity run is set to zero without integration, and one whose
  * scalar stays constant uses the exact exponential; both follow from the range of P over
- * [0, 1]. Built on the CPU with vtkSMPTools.
+ * [0, 1]. Built on the CPU with vtkSMPTools. With Prefilter (the default) the transfer
+ * function is first box-averaged over one table spacing, so that features narrower than the
+ * spacing keep their integral instead of being hit or missed by the entries.
  */
 #ifndef vtkSecondOrderPreIntegrationTable_h
 #define vtkSecondOrderPreIntegrationTable_h
@@ -45,11 +47,26 @@ public:
   vtkGetMacro(Iterations, int);
   ///@}
 
+  ///@{
+  /**
+   * Average the transfer function over one table spacing before integrating. A table can
+   * only store its entries; between them the renderer interpolates. A feature narrower than
+   * the entry spacing is then hit or missed depending on where the entries fall, and at
+   * large steps or with 16-bit or float data whose range holds thousands of such features, a
+   * table that resolves all of them would be too big. With Prefilter, every entry integrates
+   * the transfer function box-averaged over one entry spacing, so each feature keeps
+   * its integral wherever it lies and interpolation between entries is smooth; slabs whose
+   * scalar sweeps across many spacings are unchanged, as is a transfer function that is
+   * linear over each spacing. Initial value is true.
+   */
+  vtkSetMacro(Prefilter, bool);
+  vtkGetMacro(Prefilter, bool);
+  vtkBooleanMacro(Prefilter, bool);
+  ///@}
+
   /**
    * Samples of the iteration table per table spacing in the last build: at least 8, and
-   * enough for 16 samples across the narrowest transfer-function feature. With AdaptiveAxes
-   * the entries are not equispaced and the iteration table may be finer still (16 samples
-   * per narrowest feature over the whole range); GPU builders then do not apply. The iteration
+   * enough for 16 samples across the narrowest transfer-function feature. The iteration
    * table samples the transfer function densely over the scalar range; each step of the
    * integration reads it with linear interpolation.
    */
@@ -58,9 +75,17 @@ public:
   /**
    * The iteration table of the last build: for IterationSamplesPerSpacing (TableSize - 1) + 1
    * equispaced scalars over ScalarRange, RGBA = (c a, a) with a = 1 - exp(-tau L /
-   * Iterations), the premultiplied colour and opacity of one integration step.
+   * Iterations), the premultiplied colour and opacity of one integration step (c and tau of
+   * the prefiltered transfer function when Prefilter is on).
    */
   vtkFloatArray* GetIterationTable() { return this->IterationTable; }
+
+  /**
+   * The constant-scalar slab of each entry (the table diagonal), RGBA = (c alpha, alpha) with
+   * alpha = 1 - exp(-tau SegmentLength), tau and c of the (prefiltered) transfer function at
+   * the entry's scalar. Filled by BuildIterationTable().
+   */
+  vtkFloatArray* GetDiagonalTable() { return this->DiagonalTable; }
 
   /**
    * Zero-opacity run of each spacing of the iteration table (-1 where there is opacity), the
@@ -86,11 +111,16 @@ protected:
 
   void BuildTable() override;
 
+  // The prefilter spreads opacity by half a spacing; the quadratic between entries of one
+  // spacing overshoots them by at most an eighth of it, also within that margin.
+  double GetEmptyRunMargin() const override;
+
   int Iterations = 64;
   int IterationSamplesPerSpacing = 8;
-  std::vector<double> EntryPositions; // in iteration-table samples
+  bool Prefilter = true;
   vtkFloatArray* IterationTable;
   vtkFloatArray* IterationEmptyRuns;
+  vtkFloatArray* DiagonalTable;
 
 private:
   vtkSecondOrderPreIntegrationTable(const vtkSecondOrderPreIntegrationTable&) = delete;

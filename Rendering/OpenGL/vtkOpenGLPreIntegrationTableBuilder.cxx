@@ -106,30 +106,15 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
     return false;
   }
 
-  // Inputs: the iteration table and its empty runs, and the diagonal (constant scalar) as the
-  // CPU computes it, the exact exponential over the slab.
+  // Inputs: the iteration table and its empty runs, and the diagonal (constant scalar), the
+  // exact exponential over the slab, all from the CPU.
   const int rowShift = RowShift(fine, vtkTextureObject::GetMaximumTextureSize(context));
   vtkNew<vtkTextureObject> stepsTexture;
   vtkNew<vtkTextureObject> runsTexture;
   vtkNew<vtkTextureObject> diagonalTexture;
-  std::vector<float> diagonal(4 * static_cast<size_t>(n));
-  const double* range = table->GetScalarRange();
-  const double spacing = (range[1] - range[0]) / (n - 1);
-  for (int i = 0; i < n; ++i)
-  {
-    double rgbTau[4];
-    // Entry N - 1 exactly at the range end, as on the CPU.
-    table->GetSampler()->Evaluate(i == n - 1 ? range[1] : range[0] + i * spacing, rgbTau);
-    const double alpha = -std::expm1(-rgbTau[3] * table->GetSegmentLength());
-    for (int c = 0; c < 3; ++c)
-    {
-      diagonal[4 * i + c] = static_cast<float>(rgbTau[c] * alpha);
-    }
-    diagonal[4 * i + 3] = static_cast<float>(alpha);
-  }
   if (!UploadRows(context, stepsTexture, steps->GetPointer(0), fine, 4, 1 << rowShift) ||
     !UploadRows(context, runsTexture, runs->GetPointer(0), fine - 1, 1, 1 << rowShift) ||
-    !UploadRows(context, diagonalTexture, diagonal.data(), n, 4, n))
+    !UploadRows(context, diagonalTexture, table->GetDiagonalTable()->GetPointer(0), n, 4, n))
   {
     vtkErrorMacro("Could not upload the iteration table.");
     return false;

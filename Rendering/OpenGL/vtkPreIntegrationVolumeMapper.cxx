@@ -38,7 +38,6 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
-  , CoordinatesTexture(vtkTextureObject::New())
 {
 }
 
@@ -50,7 +49,6 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
-  this->CoordinatesTexture->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -91,6 +89,22 @@ void vtkPreIntegrationVolumeMapper::SetIterations(int iterations)
 int vtkPreIntegrationVolumeMapper::GetIterations()
 {
   return this->SecondOrderTable->GetIterations();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetTablePrefilter(bool prefilter)
+{
+  if (prefilter != this->SecondOrderTable->GetPrefilter())
+  {
+    this->SecondOrderTable->SetPrefilter(prefilter);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::GetTablePrefilter()
+{
+  return this->SecondOrderTable->GetPrefilter();
 }
 
 //------------------------------------------------------------------------------
@@ -247,38 +261,28 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
                                   : vtkTextureObject::GetMaximumTextureSize(context);
   int size = this->TableSize;
-  bool adaptive = false;
   if (size <= 0)
   {
     if (secondOrder)
     {
       // The 3D table interpolates whole slabs: the shorter the slab (in voxels), the closer
       // to the diagonal its entries, the finer the table must be (measured optimum: about
-      // 1.5 / step entries per narrowest opacity feature, step in voxels). When the range
-      // holds more than 256 such entries, they are concentrated where the opacity is.
+      // 1.5 / step entries per narrowest opacity feature, step in voxels). Features narrower
+      // than an entry spacing keep their integral through the table's prefilter.
       double spacing[3];
       input->GetSpacing(spacing);
       const double minimumSpacing =
         std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
       const double stepInVoxels =
         this->SampleDistance / (minimumSpacing > 0.0 ? minimumSpacing : 1.0);
-      const double perFeature = 1.5 / stepInVoxels;
       size = vtkPreIntegrationTable::SuggestTableSize(
-        scalars->GetDataType(), range, table->GetSampler(), 48, 256, perFeature, true);
-      const double feature = table->GetSampler()->GetSmallestOpacityFeature();
-      adaptive = perFeature * (range[1] - range[0]) / feature + 1.0 > 256.0;
+        scalars->GetDataType(), range, table->GetSampler(), 48, 256, 1.5 / stepInVoxels, true);
     }
     else
     {
       size = vtkPreIntegrationTable::SuggestTableSize(
         scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
     }
-  }
-  table->SetAdaptiveAxes(adaptive);
-  if (adaptive != this->AdaptiveAxesInShader)
-  {
-    this->AdaptiveAxesInShader = adaptive;
-    this->ExtensionShaderModified();
   }
   if (maxSize > 0 && size > maxSize)
   {
@@ -295,23 +299,19 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
   table->SetTableSize(size);
   // A GPU build integrates from what Update() prepares; the CPU then skips the entries.
-  // Adaptive axes need the CPU builder.
-  this->SecondOrderTable->SetComputeEntries(
-    !(secondOrder && !adaptive && this->BuildOnGPU(context)));
+  this->SecondOrderTable->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
     return DrawNothing;
   }
 
-  // raw texture value -> data value -> table texture coordinate (entries at texel centres),
-  // or, with adaptive axes, the texture coordinate of the coordinate table.
+  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
   double scale, shift;
   vtkPreIntegrationVolumeMapper::GetTextureValueMapping(scalars, scale, shift);
-  const int texels = adaptive ? vtkPreIntegrationTable::CoordinateTexels : size;
-  const double toIndex = (texels - 1.0) / (range[1] - range[0]);
-  this->RawToTable[0] = static_cast<float>(scale * toIndex / texels);
-  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / texels);
+  const double toIndex = (size - 1.0) / (range[1] - range[0]);
+  this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
+  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
   return DrawWithExtension;
 }
 
@@ -394,31 +394,11 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   }
   this->EmptyRunsTexture->SetMinificationFilter(vtkTextureObject::Nearest);
   this->EmptyRunsTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
-  if (table->GetAdaptiveAxes())
-  {
-    this->CoordinatesTexture->SetContext(context);
-    this->CoordinatesTexture->SetInternalFormat(GL_R32F);
-    this->CoordinatesTexture->SetFormat(GL_RED);
-    this->CoordinatesTexture->SetDataType(GL_FLOAT);
-    if (!this->CoordinatesTexture->Create2DFromRaw(vtkPreIntegrationTable::CoordinateTexels,
-          1,
-          1,
-          VTK_FLOAT,
-          table->GetCoordinateTable()->GetVoidPointer(0)))
-    {
-      vtkErrorMacro("Could not create the coordinate texture.");
-      return false;
-    }
-    this->CoordinatesTexture->SetWrapS(vtkTextureObject::ClampToEdge);
-    this->CoordinatesTexture->SetMinificationFilter(vtkTextureObject::Linear);
-    this->CoordinatesTexture->SetMagnificationFilter(vtkTextureObject::Linear);
-  }
   this->UploadedTable = table;
   this->UploadedBuildCount = table->GetBuildCount();
   this->UploadedPrecision = precision;
   vtkIdType entries = static_cast<vtkIdType>(n) * n * (volume ? n : 1);
-  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4 +
-    (table->GetAdaptiveAxes() ? vtkPreIntegrationTable::CoordinateTexels * 4 : 0);
+  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4;
   return true;
 }
 
@@ -427,10 +407,6 @@ void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
 {
   this->TableTexture->Activate();
   this->EmptyRunsTexture->Activate();
-  if (this->AdaptiveAxesInShader)
-  {
-    this->CoordinatesTexture->Activate();
-  }
 }
 
 //------------------------------------------------------------------------------
@@ -438,10 +414,6 @@ void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
 {
   this->TableTexture->Deactivate();
   this->EmptyRunsTexture->Deactivate();
-  if (this->AdaptiveAxesInShader)
-  {
-    this->CoordinatesTexture->Deactivate();
-  }
 }
 
 //------------------------------------------------------------------------------
@@ -463,9 +435,8 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
   // Declared late, after every uniform and global the functions use; the switches of the
   // GLSL first.
-  const std::string switches = std::string("#define HOVR_SKIP_EMPTY ") +
-    (this->SkipEmptySegments && !this->AdaptiveAxesInShader ? "1" : "0") +
-    "\n#define HOVR_ADAPTIVE_AXES " + (this->AdaptiveAxesInShader ? "1" : "0") + "\n";
+  const std::string switches =
+    std::string("#define HOVR_SKIP_EMPTY ") + (this->SkipEmptySegments ? "1" : "0") + "\n";
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
@@ -484,10 +455,6 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
 {
   program->SetUniformi("hovr_preintTable", this->TableTexture->GetTextureUnit());
   program->SetUniformi("hovr_emptyRuns", this->EmptyRunsTexture->GetTextureUnit());
-  if (this->AdaptiveAxesInShader)
-  {
-    program->SetUniformi("hovr_coordinates", this->CoordinatesTexture->GetTextureUnit());
-  }
   program->SetUniformi("hovr_tableSize", this->GetActiveTable()->GetTableSize());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
@@ -498,7 +465,6 @@ void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
   this->EmptyRunsTexture->ReleaseGraphicsResources(window);
-  this->CoordinatesTexture->ReleaseGraphicsResources(window);
   this->UploadedTable = nullptr;
   this->UploadedBuildCount = -1;
   this->TableTextureMemorySize = 0;
@@ -516,6 +482,7 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastTableBuiltOnGPU: " << this->LastTableBuiltOnGPU << "\n";
   os << indent << "LastTableBuildTime: " << this->LastTableBuildTime << "\n";
   os << indent << "Iterations: " << this->GetIterations() << "\n";
+  os << indent << "TablePrefilter: " << (this->GetTablePrefilter() ? "On" : "Off") << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
 }

@@ -133,8 +133,8 @@ public:
    * Skip the table fetch of segments (first order) or slabs (second order) whose scalar stays
    * in one zero-opacity run of the transfer function; the result is the same. The test costs
    * a texel fetch per sample: it pays where table fetches are expensive (large tables on a
-   * GPU); with Mesa llvmpipe it was measured 5-20% slower than fetching. Not available with
-   * adaptive table axes. Initial value is false.
+   * GPU); with Mesa llvmpipe it was measured 5-20% slower than fetching. Initial value is
+   * false.
    */
   virtual void SetSkipEmptySegments(bool skip);
   vtkGetMacro(SkipEmptySegments, bool);
@@ -148,6 +148,19 @@ public:
    */
   virtual void SetIterations(int iterations);
   virtual int GetIterations();
+  ///@}
+
+  ///@{
+  /**
+   * Box-average the transfer function over one entry spacing of the second-order table before
+   * integrating (vtkSecondOrderPreIntegrationTable::Prefilter), so that opacity features
+   * narrower than a spacing keep their integral wherever they fall between entries. Data
+   * exactly at the ends of the scalar range keeps the exact transfer function. Initial value
+   * is true.
+   */
+  virtual void SetTablePrefilter(bool prefilter);
+  virtual bool GetTablePrefilter();
+  vtkBooleanMacro(TablePrefilter, bool);
   ///@}
 
   ///@{
@@ -218,8 +231,6 @@ protected:
   vtkOpenGLPreIntegrationTableBuilder* GPUBuilder;
   vtkTextureObject* TableTexture;
   vtkTextureObject* EmptyRunsTexture;
-  vtkTextureObject* CoordinatesTexture;
-  bool AdaptiveAxesInShader = false;
   // What the textures hold: table, its build and precision.
   vtkPreIntegrationTable* UploadedTable = nullptr;
   int UploadedBuildCount = -1;

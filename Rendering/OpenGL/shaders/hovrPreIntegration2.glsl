@@ -33,23 +33,10 @@ float hovr_frontIndex;  // its position in sample distances from the first sampl
 vec3 hovr_frontPos;     // and in texture coordinates
 float hovr_endIndex;    // where the ray ends (box exit or termination), in the same units
 
-#if HOVR_ADAPTIVE_AXES
-// Entries placed where the opacity is (vtkPreIntegrationTable::AdaptiveAxes): a scalar's
-// table coordinate comes from the coordinate table, exactly piecewise linear between texels;
-// hovr_rawToTable then maps to its texture coordinate.
-uniform sampler2D hovr_coordinates;
-
-float hovr_tableCoord(vec3 pos)
-{
-  float x = texture(in_volume[0], pos).r * hovr_rawToTable.x + hovr_rawToTable.y;
-  return isnan(x) ? x : texture(hovr_coordinates, vec2(x, 0.5)).r;
-}
-#else
 float hovr_tableCoord(vec3 pos)
 {
   return texture(in_volume[0], pos).r * hovr_rawToTable.x + hovr_rawToTable.y;
 }
-#endif
 
 float hovr_emptyRun(float coord)
 {
@@ -73,8 +60,7 @@ float hovr_stepsToExit(vec3 pos)
 }
 
 // True when the quadratic through the three samples stays inside one zero-opacity run: its
-// range is spanned by its ends and, when inside the slab, its extremum (Eq. 2). Table
-// coordinates are affine in the scalar unless the axes are adaptive; then the test is off.
+// range is spanned by its ends and, when inside the slab, its extremum (Eq. 2).
 bool hovr_slabIsEmpty(float sf, float sm, float sb, float runFront, float runBack)
 {
   if (runFront < 0.0 || runFront != runBack)
