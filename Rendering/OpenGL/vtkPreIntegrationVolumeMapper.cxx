@@ -482,7 +482,7 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastTableBuiltOnGPU: " << this->LastTableBuiltOnGPU << "\n";
   os << indent << "LastTableBuildTime: " << this->LastTableBuildTime << "\n";
   os << indent << "Iterations: " << this->GetIterations() << "\n";
-  os << indent << "TablePrefilter: " << (this->GetTablePrefilter() ? "On" : "Off") << "\n";
+  os << indent << "TablePrefilter: " << this->GetTablePrefilter() << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
 }

@@ -1,6 +1,7 @@
 """``hovr bench``: a small configuration gives the CSV, images, difference images, the plot
 and the summary; optional datasets whose data is missing are skipped with a message; the
-reference is cached between runs; a broken configuration is a clear error."""
+reference is cached between runs; a broken configuration is a clear error. ``hovr tables``
+builds small second-order tables on the CPU and the GPU and finds them equal."""
 
 import csv
 import json
@@ -66,4 +67,22 @@ code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
 c.check("unknown method" in stderr, "unknown method in a configuration is reported")
 code, stdout, stderr = run_cli("bench", os.path.join(tmp, "none.json"), expect=2)
 c.check("bench configuration file not found" in stderr, "missing configuration is reported")
+
+# hovr tables: CPU and GPU builds of small second-order tables agree; the CSV has every row.
+tables_csv = os.path.join(tmp, "tables.csv")
+code, stdout, stderr = run_cli("tables", "--sizes", 12, 20, "--iterations", 8, 16, "--repeat", 1,
+                               "--csv", tables_csv)
+with open(tables_csv) as stream:
+    table_rows = list(csv.DictReader(stream))
+c.check([(int(r["size"]), int(r["iterations"])) for r in table_rows]
+        == [(12, 8), (12, 16), (20, 8), (20, 16)], "hovr tables: one row per size and iterations")
+for row in table_rows:
+    c.check(float(row["cpu_s"]) > 0 and float(row["gpu_s"]) > 0,
+            "hovr tables: CPU and GPU times for %s^3" % row["size"])
+    c.check(float(row["max_abs_difference"]) <= 1e-6,
+            "hovr tables: CPU and GPU tables agree for %s^3 (%s)" % (row["size"],
+                                                                   row["max_abs_difference"]))
+c.check("CPU" in stdout or "CPU" in stderr, "hovr tables prints the times")
+code, stdout, stderr = run_cli("tables", "--sizes", 1, expect=2)
+c.check("size" in stderr, "hovr tables refuses a table size below 2 (%s)" % stderr.strip())
 c.finish()

@@ -33,6 +33,19 @@ def _size(text):
     return value
 
 
+def _ranged(low, high, what):
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError("%r is not an integer" % text) from None
+        if value < low or value > high:
+            raise argparse.ArgumentTypeError("%s must lie in [%d, %d], got %s" % (
+                what, low, high, text))
+        return value
+    return parse
+
+
 def _count(text):
     try:
         value = int(text)
@@ -97,8 +110,11 @@ def build_parser():
         "on the GPU for several sizes and iteration counts; print the median build times and "
         "the largest difference between the two tables."))
     tables.add_argument("--tf", help="transfer function preset (default: neghip-spikes)")
-    tables.add_argument("--sizes", nargs="+", type=_size, default=[64, 128, 192, 256])
-    tables.add_argument("--iterations", nargs="+", type=_size, default=[64])
+    # The mapper's limits: 3D tables of 2 to 512 entries per axis, 1 to 4096 iterations.
+    tables.add_argument("--sizes", nargs="+", type=_ranged(2, 512, "a table size"),
+                        default=[64, 128, 192, 256])
+    tables.add_argument("--iterations", nargs="+", type=_ranged(1, 4096, "iterations"),
+                        default=[64])
     tables.add_argument("--repeat", type=_size, default=3)
     tables.add_argument("--no-gpu", action="store_true", help="CPU builds only")
     tables.add_argument("--csv", help="also write the results to this CSV file")

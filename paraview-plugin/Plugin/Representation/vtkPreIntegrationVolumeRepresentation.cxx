@@ -21,6 +21,7 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   this->TableSize = mapper->GetTableSize();
   this->TablePrecision = mapper->GetTablePrecision();
   this->Iterations = mapper->GetIterations();
+  this->TablePrefilter = mapper->GetTablePrefilter();
   this->VolumeMapper = mapper;
 }
 
@@ -79,6 +80,7 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   mapper->SetTableSize(this->TableSize);
   mapper->SetTablePrecision(this->TablePrecision);
   mapper->SetIterations(this->Iterations);
+  mapper->SetTablePrefilter(this->TablePrefilter);
 
   double distance = this->SampleDistance;
   if (!(distance > 0.0))
@@ -103,5 +105,6 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
   os << indent << "TableSize: " << this->TableSize << "\n";
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "TablePrefilter: " << (this->TablePrefilter ? "On" : "Off") << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
 }

@@ -80,6 +80,15 @@ public:
   vtkGetMacro(Iterations, int);
   ///@}
 
+  ///@{
+  /**
+   * Box-average the transfer function over one entry spacing of the second-order table (see
+   * vtkPreIntegrationVolumeMapper::SetTablePrefilter). Initial value is the mapper's, true.
+   */
+  vtkSetMacro(TablePrefilter, bool);
+  vtkGetMacro(TablePrefilter, bool);
+  ///@}
+
   /**
    * The sample distance the mapper was last given: SampleDistance, or the automatic value
    * derived from the input when SampleDistance is not positive. 0 before the first render.
@@ -101,6 +110,7 @@ protected:
   int TableSize;
   int TablePrecision;
   int Iterations;
+  bool TablePrefilter;
   double EffectiveSampleDistance = 0.0;
 
 private:

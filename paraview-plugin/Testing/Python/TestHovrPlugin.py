@@ -190,7 +190,7 @@ def main():
 
     properties = display.ListProperties()
     for name in ("HovrIntegration", "HovrSampleDistance", "HovrTableSize", "HovrTablePrecision",
-                 "HovrIterations"):
+                 "HovrIterations", "HovrTablePrefilter"):
         checker.check(name in properties, "the representation exposes %s" % name)
     checker.check("HovrHalfFloatTable" not in properties,
                   "HovrHalfFloatTable is gone (replaced by HovrTablePrecision)")
@@ -209,6 +209,8 @@ def main():
                   "Table Precision defaults to Automatic (%s)" % display.HovrTablePrecision)
     checker.check(display.HovrIterations == 64,
                   "Iterations defaults to 64 (%s)" % display.HovrIterations)
+    checker.check(display.HovrTablePrefilter == 1,
+                  "Table Prefilter defaults to on (%s)" % display.HovrTablePrefilter)
 
     # A narrow opacity peak around 0.5: a thin shell that sampling once per cell misses or
     # aliases, while first-order pre-integration catches it between samples.
@@ -327,6 +329,14 @@ def main():
                                                  BASELINE_TOLERANCE))
     display.HovrIterations = 64
     display.HovrTablePrecision = "Automatic"
+
+    display.HovrTablePrefilter = 0
+    Render(view)
+    if drawing_mapper_here:
+        checker.check(mapper_setting(mapper, "TablePrefilter") == 0,
+                      "Table Prefilter reaches the mapper (%s)"
+                      % mapper_setting(mapper, "TablePrefilter"))
+    display.HovrTablePrefilter = 1
     display.HovrTableSize = TABLE_SIZE
 
     display.HovrIntegration = "Stock"
