@@ -20,6 +20,7 @@
 
 #include "hovrPreIntegration1.h" // the GLSL of first-order pre-integration
 #include "hovrPreIntegration2.h" // the GLSL of second-order pre-integration
+#include "hovrPreIntegrationCommon.h" // the GLSL both orders share
 
 #include <algorithm>
 #include <cmath>
@@ -440,7 +441,8 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
-      switches + (this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1),
+      switches + hovrPreIntegrationCommon +
+        (this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1),
       true);
   if (!ok)
   {

@@ -10,42 +10,13 @@
 // hovr_preintExit where VTK's shading code would initialise, sample and finish a ray.
 
 uniform sampler2D hovr_preintTable;
-// Zero-opacity run of each table spacing (-1: some opacity), read with texelFetch.
-uniform sampler2D hovr_emptyRuns;
-uniform int hovr_tableSize;
-// Table texture coordinate of a raw texture value: raw * x + y.
-uniform vec2 hovr_rawToTable;
+// hovr_emptyRuns, hovr_tableSize, hovr_rawToTable, hovr_tableCoord, hovr_emptyRun and
+// hovr_stepsToExit: hovrPreIntegrationCommon.glsl.
 
 float hovr_sFront;    // table coordinate of the previous sample
 float hovr_runFront;  // its zero-opacity run
 float hovr_fraction;  // the next segment's length in sample distances (1 inside the ray)
 vec3 hovr_entry;      // where the ray entered the volume (texture coordinates)
-
-float hovr_tableCoord(vec3 pos)
-{
-  return texture(in_volume[0], pos).r * hovr_rawToTable.x + hovr_rawToTable.y;
-}
-
-float hovr_emptyRun(float coord)
-{
-  int spacing = clamp(int(floor(coord * float(hovr_tableSize) - 0.5)), 0, hovr_tableSize - 2);
-  return texelFetch(hovr_emptyRuns, ivec2(spacing, 0), 0).r;
-}
-
-// Steps (in units of g_dirStep) from pos to where the ray leaves the volume's box.
-float hovr_stepsToExit(vec3 pos)
-{
-  vec3 bound = mix(in_texMin[0], in_texMax[0], step(vec3(0.0), g_dirStep));
-  vec3 steps = vec3(1e30);
-  for (int a = 0; a < 3; ++a)
-  {
-    if (g_dirStep[a] != 0.0)
-    {
-      steps[a] = (bound[a] - pos[a]) / g_dirStep[a];
-    }
-  }
-  return min(steps.x, min(steps.y, steps.z));
-}
 
 // Composite the segment (sFront, sBack) covering `fraction` of the sample distance. A partial
 // segment keeps the table's colour per opacity and rescales the optical depth by its length,

@@ -350,6 +350,21 @@ void BoxAverage(const vtkVolumeTransferFunctionSampler* sampler, double s, doubl
   }
 }
 
+// Zero opacity on [0, 34] and [38, 50], a spike on (34, 38), 0.6 from 52 on (range [0, 63]).
+void MakeRunsTransferFunction(TransferFunction& runs)
+{
+  runs.Color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
+  runs.Color->AddRGBPoint(63.0, 1.0, 0.5, 0.0);
+  runs.Opacity->AddPoint(0.0, 0.0);
+  runs.Opacity->AddPoint(34.0, 0.0);
+  runs.Opacity->AddPoint(36.0, 0.8);
+  runs.Opacity->AddPoint(38.0, 0.0);
+  runs.Opacity->AddPoint(50.0, 0.0);
+  runs.Opacity->AddPoint(52.0, 0.6);
+  runs.Opacity->AddPoint(63.0, 0.6);
+  runs.SetUnit(1.0);
+}
+
 // Entries whose quadratic stays inside the scalar range (no clamping kink).
 std::vector<Entry> InsideEntries(vtkSecondOrderPreIntegrationTable* table,
   const std::vector<Entry>& all)
@@ -905,16 +920,7 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
   //    extremum enters the spike is not (the empty test must use the extremum).
   {
     TransferFunction runs;
-    runs.Color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
-    runs.Color->AddRGBPoint(63.0, 1.0, 0.5, 0.0);
-    runs.Opacity->AddPoint(0.0, 0.0);
-    runs.Opacity->AddPoint(34.0, 0.0);
-    runs.Opacity->AddPoint(36.0, 0.8);
-    runs.Opacity->AddPoint(38.0, 0.0);
-    runs.Opacity->AddPoint(50.0, 0.0);
-    runs.Opacity->AddPoint(52.0, 0.6);
-    runs.Opacity->AddPoint(63.0, 0.6);
-    runs.SetUnit(1.0);
+    MakeRunsTransferFunction(runs);
     const int n = 64;
     auto table = Build(runs, 0.0, 63.0, n, 2.0, 256, "empty runs");
     vtkFloatArray* coarse = table->GetEmptyRuns();
@@ -1089,16 +1095,7 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
     //     skipped. The transfer function of section 8 (spike on (34, 38), opacity from 50 on),
     //     range [0, 63], N = 64: spacing b is empty when [b - 1/2, b + 3/2] has no opacity.
     TransferFunction runs;
-    runs.Color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
-    runs.Color->AddRGBPoint(63.0, 1.0, 0.5, 0.0);
-    runs.Opacity->AddPoint(0.0, 0.0);
-    runs.Opacity->AddPoint(34.0, 0.0);
-    runs.Opacity->AddPoint(36.0, 0.8);
-    runs.Opacity->AddPoint(38.0, 0.0);
-    runs.Opacity->AddPoint(50.0, 0.0);
-    runs.Opacity->AddPoint(52.0, 0.6);
-    runs.Opacity->AddPoint(63.0, 0.6);
-    runs.SetUnit(1.0);
+    MakeRunsTransferFunction(runs);
     auto t = Build(runs, 0.0, 63.0, 64, 2.0, 64, "prefiltered empty runs", true);
     vtkFloatArray* coarse = t->GetEmptyRuns();
     bool runsOk = coarse->GetNumberOfTuples() == 63;

@@ -11,8 +11,8 @@
 #include "hovrRenderTestUtilities.h"
 
 #include "vtkFirstOrderPreIntegrationTable.h"
-#include "vtkPreIntegrationTable.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "vtkPreIntegrationTable.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkVolume.h"
 
@@ -318,13 +318,12 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
     { VTK_INT, 2000000.0, -1000000.0, 0.0085, 1e-4 },
   };
   mapper->SetSampleDistance(0.0125);
-  for (int order : { vtkPreIntegrationVolumeMapper::FIRST_ORDER,
-         vtkPreIntegrationVolumeMapper::SECOND_ORDER })
+  for (int order :
+    { vtkPreIntegrationVolumeMapper::FIRST_ORDER, vtkPreIntegrationVolumeMapper::SECOND_ORDER })
   {
     mapper->SetIntegration(order);
-    const std::string label = order == vtkPreIntegrationVolumeMapper::FIRST_ORDER
-      ? "first order, "
-      : "second order, ";
+    const std::string label =
+      order == vtkPreIntegrationVolumeMapper::FIRST_ORDER ? "first order, " : "second order, ";
     vtkSmartPointer<vtkImageData> floatImage;
     for (const TypeCase& c : cases)
     {
@@ -351,8 +350,8 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
                 << mapper->GetActiveTable()->GetTableSize() << ")\n";
       const std::string name = label + typed->GetScalarTypeAsString();
       check(rmse >= 0.0 && rmse < c.ReferenceBound, name + ": RMSE vs reference below bound");
-      check(rmseFloat >= 0.0 && rmseFloat <= c.FloatBound,
-        name + ": RMSE vs float image below bound");
+      check(
+        rmseFloat >= 0.0 && rmseFloat <= c.FloatBound, name + ": RMSE vs float image below bound");
     }
   }
   return check.Result("TestPreIntegrationVolumeMapperBadInput");
