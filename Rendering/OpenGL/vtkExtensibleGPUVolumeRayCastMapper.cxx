@@ -40,6 +40,17 @@ public:
     return true;
   }
 
+  // After VTK's own replacements: the program as compiled, kept for inspection.
+  bool PostReplaceShaderValues(std::string&,
+    std::string&,
+    std::string& fragmentShader,
+    vtkAbstractMapper*,
+    vtkProp*) override
+  {
+    this->Mapper->FragmentShaderSource = fragmentShader;
+    return true;
+  }
+
   vtkMTimeType GetShaderStageMTime() override { return this->Mapper->ExtensionShaderTime; }
 
 protected:
@@ -68,14 +79,17 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
 bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(std::string& source,
   const std::string& tag,
   const std::string& code,
-  bool keepTag)
+  TagPlacement placement)
 {
   // Inserted code must not carry tags: a later replacement would hit the copy, not the template.
   if (code.find("//VTK::") != std::string::npos)
   {
     return false;
   }
-  return vtkShaderProgram::Substitute(source, tag, keepTag ? code + "\n" + tag : code, false);
+  const std::string replacement = placement == BeforeTag ? code + "\n" + tag
+    : placement == AfterTag                              ? tag + "\n" + code
+                                                         : code;
+  return vtkShaderProgram::Substitute(source, tag, replacement, false);
 }
 
 //------------------------------------------------------------------------------

@@ -49,14 +49,30 @@ public:
   vtkGetMacro(ExtensionFrameCount, int);
 
   /**
-   * Replace one //VTK:: tag of a shader source, keeping the tag after the replacement when
-   * keepTag is true (so that VTK still substitutes it). Returns false when the tag is absent
-   * or the code itself contains a //VTK:: tag (a later replacement would hit that copy).
+   * Where ReplaceShaderTag() puts code: instead of the tag, or before or after it (the tag
+   * stays, so VTK still substitutes its own code there).
+   */
+  enum TagPlacement
+  {
+    ReplaceTag = 0,
+    BeforeTag,
+    AfterTag
+  };
+
+  /**
+   * Put code at one //VTK:: tag of a shader source. Returns false when the tag is absent or
+   * the code itself contains a //VTK:: tag (a later replacement would hit that copy).
    */
   static bool ReplaceShaderTag(std::string& source,
     const std::string& tag,
     const std::string& code,
-    bool keepTag);
+    TagPlacement placement);
+
+  /**
+   * The fragment shader of the last program built with the extension, after every
+   * replacement: the code that runs, for inspection and tests. Empty before the first build.
+   */
+  const std::string& GetFragmentShaderSource() const { return this->FragmentShaderSource; }
 
 protected:
   vtkExtensibleGPUVolumeRayCastMapper();
@@ -90,6 +106,7 @@ protected:
 
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
+  std::string FragmentShaderSource;
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

@@ -18,8 +18,8 @@
 #include "vtkVolumeTransferFunctionSampler.h"
 #include "vtk_glew.h"
 
-#include "hovrPreIntegration1.h" // the GLSL of first-order pre-integration
-#include "hovrPreIntegration2.h" // the GLSL of second-order pre-integration
+#include "hovrPreIntegration1.h"      // the GLSL of first-order pre-integration
+#include "hovrPreIntegration2.h"      // the GLSL of second-order pre-integration
 #include "hovrPreIntegrationCommon.h" // the GLSL both orders share
 
 #include <algorithm>
@@ -427,13 +427,16 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   bool ok = Self::ReplaceShaderTag(fragmentShader,
     "//VTK::Termination::Dec",
     "uniform float hovr_opacityThreshold;\n#define g_opacityThreshold hovr_opacityThreshold",
-    false);
+    Self::ReplaceTag);
   ok = ok &&
-    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", false);
+    Self::ReplaceShaderTag(
+      fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", Self::ReplaceTag);
   ok = ok &&
-    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", false);
+    Self::ReplaceShaderTag(
+      fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", Self::ReplaceTag);
   ok = ok &&
-    Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", false);
+    Self::ReplaceShaderTag(
+      fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", Self::ReplaceTag);
   // Declared late, after every uniform and global the functions use; the switches of the
   // GLSL first.
   const std::string switches =
@@ -443,7 +446,7 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
       "//VTK::ComputeRayDirection::Dec",
       switches + hovrPreIntegrationCommon +
         (this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1),
-      true);
+      Self::BeforeTag);
   if (!ok)
   {
     vtkErrorMacro("The ray caster's shader template lacks a tag that pre-integration replaces.");

@@ -63,13 +63,13 @@ protected:
   {
     this->ShaderBuilds++;
     bool ok = ReplaceShaderTag(
-      fragmentShader, "//VTK::Shading::Dec", "uniform vec4 hovrTest_colour;", true);
+      fragmentShader, "//VTK::Shading::Dec", "uniform vec4 hovrTest_colour;", BeforeTag);
     ok = ok &&
       ReplaceShaderTag(fragmentShader,
         "//VTK::Shading::Impl",
         this->SwapRedBlue ? "g_fragColor = hovrTest_colour.bgra;"
                           : "g_fragColor = hovrTest_colour;",
-        false);
+        ReplaceTag);
     return ok;
   }
   void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume*) override
@@ -196,6 +196,11 @@ int TestExtensibleGPUVolumeRayCastMapper(int, char*[])
   auto image = view.Render();
   CheckPainted(check, image, colourA, boxPixels, "first frame");
   check(mapper->ShaderBuilds == 1, "program built once on the first frame");
+  const std::string& source = mapper->GetFragmentShaderSource();
+  check(source.find("uniform vec4 hovrTest_colour;") != std::string::npos &&
+      source.find("g_fragColor = hovrTest_colour") != std::string::npos &&
+      source.find("//VTK::Shading::Impl") == std::string::npos,
+    "GetFragmentShaderSource() is the program after every replacement");
   check(mapper->ParameterCalls >= 1, "parameters set on the first frame");
   check(mapper->GetExtensionFrameCount() == 1, "one extension frame");
   check(mapper->Activations == 1 && mapper->Deactivations == 1, "textures activated around it");
