@@ -22,6 +22,35 @@ public:
   void Set(const double corner[8], const double u0[3], const double v[3]);
 
   /**
+   * Set the profile over a unit parameter interval from four samples at t = 0, 1/3, 2/3 and
+   * 1 (Eq. 3-4 of Jozsa, Toth and Csebfalvi): how hovr's analytic GPU ray caster builds it
+   * from trilinear samples; mirrored in hovrAnalytic.glsl.
+   */
+  void SetFromSamples(double f1, double f2, double f3, double f4);
+
+  /**
+   * Parameters t in (0, length) where ds/dt = 0 (Eq. 5-6), in increasing order; returns
+   * their number (0, 1 or 2). Degenerate cases: a quadratic or linear profile has at most
+   * one, a constant one none; a double root of the derivative (an inflection with zero
+   * slope) is returned once.
+   */
+  int GetCriticalPoints(double length, double t[2]) const;
+
+  /**
+   * Smallest and largest s over [0, length]: the end points and the interior extrema
+   * (section 6; the analytic maximum and minimum intensity projection of section 9).
+   */
+  void GetRange(double length, double& smin, double& smax) const;
+
+  /**
+   * The first t in [0, length] with s(t) = value, if any. The interval is cut at the
+   * critical points into pieces on which s is monotone; the first piece whose end values
+   * bracket the value (or touch it) is bisected to full double precision. A touching
+   * (tangent) profile counts as a hit only where s equals the value exactly.
+   */
+  bool FindFirstCrossing(double value, double length, double& t) const;
+
+  /**
    * s(t).
    */
   double Evaluate(double t) const

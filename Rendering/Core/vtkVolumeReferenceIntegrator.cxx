@@ -3,6 +3,7 @@
 
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
+#include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
@@ -22,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 vtkStandardNewMacro(vtkVolumeReferenceIntegrator);
@@ -48,6 +50,12 @@ public:
   int Width;
   float* Output;
   vtkSMPThreadLocal<vtkIdType> Samples;
+  // Blend modes other than composite.
+  int BlendMode = vtkVolumeReferenceIntegrator::COMPOSITE_BLEND;
+  std::vector<double> IsoValues;
+  bool Shade = false;
+  double Ambient = 0, Diffuse = 1, Specular = 0, SpecularPower = 1;
+  float* Extra = nullptr; // Depth, MaxScalar or MinScalar
 
   RayCaster(const VolumeGrid& grid,
     const vtkCameraRayModel* rays,
@@ -72,18 +80,33 @@ public:
     vtkIdType& samples = this->Samples.Local();
     for (vtkIdType p = begin; p < end; ++p)
     {
-      double rgba[4];
-      samples +=
-        this->CastRay(static_cast<int>(p % this->Width), static_cast<int>(p / this->Width), rgba);
+      double rgba[4], extra = std::numeric_limits<double>::quiet_NaN();
+      const int i = static_cast<int>(p % this->Width), j = static_cast<int>(p / this->Width);
+      switch (this->BlendMode)
+      {
+        case vtkVolumeReferenceIntegrator::ISOSURFACE_BLEND:
+          samples += this->CastIsoSurface(i, j, rgba, extra);
+          break;
+        case vtkVolumeReferenceIntegrator::MAXIMUM_INTENSITY_BLEND:
+        case vtkVolumeReferenceIntegrator::MINIMUM_INTENSITY_BLEND:
+          samples += this->CastProjection(i, j, rgba, extra);
+          break;
+        default:
+          samples += this->CastRay(i, j, rgba);
+      }
       std::copy(rgba, rgba + 4, this->Output + 4 * p);
+      if (this->Extra)
+      {
+        this->Extra[p] = static_cast<float>(extra);
+      }
     }
   }
 
-  // Integrates one pixel ray; returns the number of integration pieces evaluated.
-  vtkIdType CastRay(int i, int j, double rgba[4]) const
+  // The pixel ray in grid index space (o + t v, t the world distance) and its walk; false
+  // when it misses the grid.
+  bool StartRay(int i, int j, double o[3], double v[3], vtkGridRayTraversal& walk) const
   {
-    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
-    double origin[3], direction[3], o[3], v[3];
+    double origin[3], direction[3];
     this->Rays->GetPixelRay(i, j, origin, direction);
     const double* m = this->Grid.PhysicalToIndex;
     for (int r = 0; r < 3; ++r)
@@ -94,38 +117,198 @@ public:
     }
     // Parallel rays start on the plane through the camera: volume behind it is not seen,
     // as with VTK's near plane; perspective rays start at the eye.
-    vtkGridRayTraversal walk;
-    if (!walk.Initialize(this->Grid.Dims, o, v, 0.0, VTK_DOUBLE_MAX))
-    {
-      return 0;
-    }
+    return walk.Initialize(this->Grid.Dims, o, v, 0.0, VTK_DOUBLE_MAX);
+  }
+
+  // The 8 corner values of a cell, indexed i + 2 j + 4 k; false if any is NaN (the
+  // interpolant is NaN in the whole cell: transparent, no surface, no extremum).
+  bool GetCorners(const int cell[3], double corner[8]) const
+  {
     const int* dims = this->Grid.Dims;
     const vtkIdType sy = dims[0];
     const vtkIdType sz = static_cast<vtkIdType>(dims[0]) * dims[1];
     const double* values = this->Grid.Values.data();
-    double transmittance = 1.0;
-    vtkIdType pieces = 0;
+    const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
+    const vtkIdType offsets[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
+    for (int c = 0; c < 8; ++c)
+    {
+      corner[c] = values[base + offsets[c]];
+    }
+    return !std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); });
+  }
+
+  // The opaque isosurface: first crossing of any isovalue; extra = world depth of the hit.
+  // Returns the number of cells visited.
+  vtkIdType CastIsoSurface(int i, int j, double rgba[4], double& depth) const
+  {
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    double o[3], v[3];
+    vtkGridRayTraversal walk;
+    if (!this->StartRay(i, j, o, v, walk))
+    {
+      return 0;
+    }
+    vtkIdType cells = 0;
     int cell[3];
-    double t0, t1;
+    double t0, t1, corner[8];
     while (walk.Next(cell, t0, t1))
     {
-      const double length = t1 - t0;
-      if (!(length > 0.0))
+      ++cells;
+      if (!this->GetCorners(cell, corner))
       {
         continue;
       }
-      const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
-      const double corner[8] = { values[base],
-        values[base + 1],
-        values[base + sy],
-        values[base + sy + 1],
-        values[base + sz],
-        values[base + sz + 1],
-        values[base + sz + sy],
-        values[base + sz + sy + 1] };
-      if (std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); }))
+      // The interpolant stays within its corner range: only values inside can be crossed.
+      const auto range = std::minmax_element(corner, corner + 8);
+      double u0[3];
+      for (int a = 0; a < 3; ++a)
       {
-        continue; // NaN anywhere in the cell makes the interpolant NaN: transparent.
+        u0[a] = o[a] + t0 * v[a] - cell[a];
+      }
+      vtkTrilinearRayProfile profile;
+      bool profileSet = false;
+      double best = VTK_DOUBLE_MAX, bestValue = 0.0;
+      for (double value : this->IsoValues)
+      {
+        if (value < *range.first || value > *range.second)
+        {
+          continue;
+        }
+        if (!profileSet)
+        {
+          profile.Set(corner, u0, v);
+          profileSet = true;
+        }
+        double t;
+        if (profile.FindFirstCrossing(value, t1 - t0, t) && t < best)
+        {
+          best = t;
+          bestValue = value;
+        }
+      }
+      if (best == VTK_DOUBLE_MAX)
+      {
+        continue;
+      }
+      depth = t0 + best;
+      double rgbTau[4];
+      this->Sampler->Evaluate(bestValue, rgbTau);
+      double light = 1.0, specular = 0.0;
+      if (this->Shade)
+      {
+        // Exact gradient of the trilinear field at the hit, in index space; the world
+        // gradient is M^T g for index = M world, and g . v equals the world gradient dotted
+        // with the (unit) world ray direction.
+        const double u[3] = { u0[0] + best * v[0], u0[1] + best * v[1], u0[2] + best * v[2] };
+        double g[3] = { 0, 0, 0 };
+        for (int c = 0; c < 8; ++c)
+        {
+          const double w[3] = {
+            (c & 1) ? u[0] : 1 - u[0], (c & 2) ? u[1] : 1 - u[1], (c & 4) ? u[2] : 1 - u[2]
+          };
+          const double dw[3] = { (c & 1) ? 1.0 : -1.0, (c & 2) ? 1.0 : -1.0, (c & 4) ? 1.0 : -1.0 };
+          g[0] += dw[0] * w[1] * w[2] * corner[c];
+          g[1] += w[0] * dw[1] * w[2] * corner[c];
+          g[2] += w[0] * w[1] * dw[2] * corner[c];
+        }
+        const double* m = this->Grid.PhysicalToIndex;
+        double world[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          world[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
+        }
+        const double norm =
+          std::sqrt(world[0] * world[0] + world[1] * world[1] + world[2] * world[2]);
+        const double nv =
+          norm > 0.0 ? std::abs(g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) / norm : 0.0;
+        light = this->Ambient + this->Diffuse * nv;
+        specular = nv > 0.0 ? this->Specular * std::pow(nv, this->SpecularPower) : 0.0;
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        rgba[c] = std::min(1.0, rgbTau[c] * light + specular);
+      }
+      rgba[3] = 1.0;
+      return cells;
+    }
+    return cells;
+  }
+
+  // Maximum or minimum intensity projection; extra = the exact extremum (NaN on a miss).
+  vtkIdType CastProjection(int i, int j, double rgba[4], double& extremum) const
+  {
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    double o[3], v[3];
+    vtkGridRayTraversal walk;
+    if (!this->StartRay(i, j, o, v, walk))
+    {
+      return 0;
+    }
+    const bool maximum = this->BlendMode == vtkVolumeReferenceIntegrator::MAXIMUM_INTENSITY_BLEND;
+    vtkIdType cells = 0;
+    int cell[3];
+    double t0, t1, corner[8];
+    while (walk.Next(cell, t0, t1))
+    {
+      ++cells;
+      if (!this->GetCorners(cell, corner))
+      {
+        continue;
+      }
+      // Cells whose corner range cannot beat the current extremum are skipped exactly.
+      const auto range = std::minmax_element(corner, corner + 8);
+      if (!std::isnan(extremum) && (maximum ? *range.second <= extremum : *range.first >= extremum))
+      {
+        continue;
+      }
+      double u0[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        u0[a] = o[a] + t0 * v[a] - cell[a];
+      }
+      vtkTrilinearRayProfile profile;
+      profile.Set(corner, u0, v);
+      double smin, smax;
+      profile.GetRange(t1 - t0, smin, smax);
+      const double candidate = maximum ? smax : smin;
+      if (std::isnan(extremum) || (maximum ? candidate > extremum : candidate < extremum))
+      {
+        extremum = candidate;
+      }
+    }
+    if (!std::isnan(extremum))
+    {
+      double rgbTau[4];
+      this->Sampler->Evaluate(extremum, rgbTau);
+      rgba[3] = this->Sampler->EvaluateOpacity(extremum);
+      for (int c = 0; c < 3; ++c)
+      {
+        rgba[c] = rgbTau[c] * rgba[3];
+      }
+    }
+    return cells;
+  }
+
+  // Integrates one pixel ray; returns the number of integration pieces evaluated.
+  vtkIdType CastRay(int i, int j, double rgba[4]) const
+  {
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    double o[3], v[3];
+    vtkGridRayTraversal walk;
+    if (!this->StartRay(i, j, o, v, walk))
+    {
+      return 0;
+    }
+    double transmittance = 1.0;
+    vtkIdType pieces = 0;
+    int cell[3];
+    double t0, t1, corner[8];
+    while (walk.Next(cell, t0, t1))
+    {
+      const double length = t1 - t0;
+      if (!(length > 0.0) || !this->GetCorners(cell, corner))
+      {
+        continue;
       }
       const auto range = std::minmax_element(corner, corner + 8);
       if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
@@ -284,6 +467,25 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
   rgba->FillValue(0.0f);
   output->GetPointData()->SetScalars(rgba);
+  const bool iso = this->BlendMode == ISOSURFACE_BLEND;
+  const bool projection =
+    this->BlendMode == MAXIMUM_INTENSITY_BLEND || this->BlendMode == MINIMUM_INTENSITY_BLEND;
+  vtkNew<vtkFloatArray> extra;
+  if (iso || projection)
+  {
+    extra->SetName(
+      iso ? "Depth" : (this->BlendMode == MAXIMUM_INTENSITY_BLEND ? "MaxScalar" : "MinScalar"));
+    extra->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+    extra->FillValue(std::numeric_limits<float>::quiet_NaN());
+    output->GetPointData()->AddArray(extra);
+  }
+  else if (this->BlendMode != COMPOSITE_BLEND)
+  {
+    vtkErrorMacro("Unsupported blend mode " << this->BlendMode
+                                            << ": use composite (0), maximum intensity (1), "
+                                               "minimum intensity (2) or isosurface (5).");
+    return 1;
+  }
 
   // Validate; on error the output stays a transparent image of the requested size.
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
@@ -344,6 +546,25 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   {
     feature = 1.0; // flat data or a constant transfer function: every piece is exact
   }
+  std::vector<double> isoValues;
+  if (iso)
+  {
+    vtkContourValues* values = this->VolumeProperty->GetIsoSurfaceValues();
+    for (int k = 0; values && k < values->GetNumberOfContours(); ++k)
+    {
+      if (std::isfinite(values->GetValue(k)))
+      {
+        isoValues.push_back(values->GetValue(k));
+      }
+    }
+    if (isoValues.empty())
+    {
+      vtkErrorMacro("Isosurface blending needs at least one finite isosurface value in the "
+                    "volume property (GetIsoSurfaceValues()->SetValue(0, v)).");
+      return 1;
+    }
+  }
+
   RayCaster caster(grid,
     this->RayModel,
     this->Sampler,
@@ -351,6 +572,14 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
     this->TransmittanceCutoff,
     width,
     rgba->GetPointer(0));
+  caster.BlendMode = this->BlendMode;
+  caster.IsoValues = isoValues;
+  caster.Extra = (iso || projection) ? extra->GetPointer(0) : nullptr;
+  caster.Shade = this->VolumeProperty->GetShade(0) != 0;
+  caster.Ambient = this->VolumeProperty->GetAmbient(0);
+  caster.Diffuse = this->VolumeProperty->GetDiffuse(0);
+  caster.Specular = this->VolumeProperty->GetSpecular(0);
+  caster.SpecularPower = this->VolumeProperty->GetSpecularPower(0);
 
   // Rows in chunks so progress and abort requests are handled on this thread.
   const int chunks = std::min(height, 20);
@@ -375,6 +604,7 @@ void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
   os << indent << "ImageSize: " << this->RayModel->GetImageSize()[0] << " "
      << this->RayModel->GetImageSize()[1] << "\n";
+  os << indent << "BlendMode: " << this->BlendMode << "\n";
   os << indent << "ScalarTolerance: " << this->ScalarTolerance << "\n";
   os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";

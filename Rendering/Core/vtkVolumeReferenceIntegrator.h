@@ -21,6 +21,20 @@
  * "RGBA" (float, premultiplied: accumulated emission, alpha = 1 - transmittance) over a
  * transparent black background. Multithreaded with vtkSMPTools; fires progress events.
  *
+ * Other blend modes (BlendMode, the values of vtkVolumeMapper's blend modes) give the exact
+ * answers of the analytic methods of Jozsa, Toth and Csebfalvi, in double precision:
+ * - ISOSURFACE: the first point of the ray where the trilinear field equals one of the
+ *   volume property's isosurface values (vtkVolumeProperty::GetIsoSurfaceValues()), found
+ *   with vtkTrilinearRayProfile::FindFirstCrossing in the first cell whose range holds a value.
+ *   Point data "Depth" (float) is the world distance from the ray's origin (NaN on a miss);
+ *   "RGBA" is the opaque surface: the colour transfer function at the isovalue, shaded when
+ *   the property's Shade is on with a headlight along the ray (ambient + diffuse |n.v| +
+ *   specular |n.v|^power, two-sided, n the exact gradient of the trilinear field).
+ * - MAXIMUM_INTENSITY / MINIMUM_INTENSITY: the exact extremum of the trilinear field along the
+ *   ray (cell end points and interior extrema). "MaxScalar" / "MinScalar" (float, data units;
+ *   NaN where the ray misses the volume); "RGBA" as VTK's projections: colour and opacity
+ *   transfer functions at the extremum, opacity taken as alpha.
+ *
  * The input must be a vtkImageData with a single-component point scalar array of at least
  * 2 points along each axis; NaN scalars are transparent. Other inputs give an error and an
  * empty (transparent) image.
@@ -68,6 +82,30 @@ public:
   int* GetImageSize() VTK_SIZEHINT(2);
   ///@}
 
+  /**
+   * Blend modes, with the values of vtkVolumeMapper's.
+   */
+  enum BlendModes
+  {
+    COMPOSITE_BLEND = 0,
+    MAXIMUM_INTENSITY_BLEND = 1,
+    MINIMUM_INTENSITY_BLEND = 2,
+    ISOSURFACE_BLEND = 5
+  };
+
+  ///@{
+  /**
+   * What is computed along each ray (see the class description). Other values give an error.
+   * Initial value is COMPOSITE_BLEND.
+   */
+  vtkSetMacro(BlendMode, int);
+  vtkGetMacro(BlendMode, int);
+  void SetBlendModeToComposite() { this->SetBlendMode(COMPOSITE_BLEND); }
+  void SetBlendModeToMaximumIntensity() { this->SetBlendMode(MAXIMUM_INTENSITY_BLEND); }
+  void SetBlendModeToMinimumIntensity() { this->SetBlendMode(MINIMUM_INTENSITY_BLEND); }
+  void SetBlendModeToIsoSurface() { this->SetBlendMode(ISOSURFACE_BLEND); }
+  ///@}
+
   ///@{
   /**
    * Largest change of the scalar within one integration piece, as a fraction of the narrowest
@@ -87,7 +125,8 @@ public:
   ///@}
 
   /**
-   * Number of integration pieces evaluated by the last update: the samples per frame.
+   * Number of integration pieces (composite) or cells (other blend modes) evaluated by the
+   * last update: the samples per frame.
    */
   vtkGetMacro(NumberOfSamples, vtkIdType);
 
@@ -105,6 +144,7 @@ protected:
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCameraRayModel* RayModel;
   vtkVolumeTransferFunctionSampler* Sampler;
+  int BlendMode = COMPOSITE_BLEND;
   double ScalarTolerance = 1.0 / 64.0;
   double TransmittanceCutoff = 1e-7;
   vtkIdType NumberOfSamples = 0;

@@ -1,7 +1,9 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 // vtkTrilinearRayProfile: the cubic along a ray equals direct trilinear interpolation, its
 // derivative equals the gradient of the interpolant along the ray, and GetMaximumSlope bounds
-// (tightly) the derivative over the segment.
+// (tightly) the derivative over the segment. The analytic isosurface/MIP numerics: Eq. 4
+// from four samples, critical points and range (Eq. 5-6), the first crossing, degenerate
+// profiles.
 #include "vtkMinimalStandardRandomSequence.h"
 #include "vtkNew.h"
 #include "vtkTrilinearRayProfile.h"
@@ -162,6 +164,138 @@ int TestTrilinearRayProfile(int, char*[])
     profile.Set(fxyz, o3, d3);
     check(std::abs(profile.GetMaximumSlope(0.5) - 1.0 / 3.0) < tolerance,
       "s = t^2 - t^3 on [0, 1/2]: largest slope 1/3 at the interior vertex");
+  }
+
+  // Eq. 4: four samples at t = 0, 1/3, 2/3, 1 give the corner-built cubic of a unit segment.
+  // Critical points, range and first crossing against dense sampling of random profiles.
+  {
+    double worstCoefficient = 0.0, worstRoot = 0.0;
+    int crossings = 0, earlyMisses = 0, rangeFailures = 0, criticalFailures = 0;
+    for (int trial = 0; trial < 3000; ++trial)
+    {
+      double f[8], u0[3], v[3];
+      for (double& c : f)
+      {
+        c = 2.0 * next() - 1.0;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        u0[a] = next();
+        v[a] = next() - u0[a]; // the segment ends at a random point of the cell
+      }
+      vtkTrilinearRayProfile corners, samples;
+      corners.Set(f, u0, v);
+      samples.SetFromSamples(corners.Evaluate(0.0),
+        corners.Evaluate(1.0 / 3.0),
+        corners.Evaluate(2.0 / 3.0),
+        corners.Evaluate(1.0));
+      for (int k = 0; k < 4; ++k)
+      {
+        worstCoefficient = std::max(
+          worstCoefficient, std::abs(samples.GetCoefficients()[k] - corners.GetCoefficients()[k]));
+      }
+      // Critical points: zeros of the derivative inside (0, 1).
+      double tc[2];
+      const int n = corners.GetCriticalPoints(1.0, tc);
+      for (int k = 0; k < n; ++k)
+      {
+        criticalFailures +=
+          (tc[k] <= 0.0 || tc[k] >= 1.0 || std::abs(corners.Derivative(tc[k])) > 1e-12 ||
+            (k == 1 && tc[1] < tc[0]))
+          ? 1
+          : 0;
+      }
+      // Range: contains every dense sample and is attained within the dense spacing.
+      double smin, smax;
+      corners.GetRange(1.0, smin, smax);
+      const int dense = 2000;
+      double dmin = corners.Evaluate(0.0), dmax = dmin;
+      for (int k = 1; k <= dense; ++k)
+      {
+        const double value = corners.Evaluate(static_cast<double>(k) / dense);
+        dmin = std::min(dmin, value);
+        dmax = std::max(dmax, value);
+      }
+      rangeFailures +=
+        (smin > dmin + 1e-15 || smax < dmax - 1e-15 || dmin - smin > 1e-5 || smax - dmax > 1e-5)
+        ? 1
+        : 0;
+      // First crossing of a value inside the range: a root, and no sign change before it.
+      const double value = smin + (smax - smin) * next();
+      double t;
+      if (!corners.FindFirstCrossing(value, 1.0, t))
+      {
+        ++earlyMisses; // the range brackets the value, so there must be a crossing
+        continue;
+      }
+      ++crossings;
+      worstRoot = std::max(worstRoot, std::abs(corners.Evaluate(t) - value));
+      const double g0 = corners.Evaluate(0.0) - value;
+      for (int k = 0; k < dense && g0 != 0.0; ++k)
+      {
+        const double tk = t * k / dense;
+        if ((corners.Evaluate(tk) - value) * g0 < 0.0 && t - tk > 1e-9)
+        {
+          ++earlyMisses; // a sign change before the reported first crossing
+          break;
+        }
+      }
+      double unused;
+      earlyMisses += corners.FindFirstCrossing(smax + 1e-9, 1.0, unused) ? 1 : 0;
+      earlyMisses += corners.FindFirstCrossing(smin - 1e-9, 1.0, unused) ? 1 : 0;
+    }
+    check.Near(
+      worstCoefficient, 0.0, 1e-12, "Eq. 4 coefficients from 4 samples equal the corners'");
+    check(criticalFailures == 0, "critical points are zeros of ds/dt inside (0, 1), sorted");
+    check(rangeFailures == 0, "GetRange is the dense range, up to the dense spacing");
+    check(crossings > 2900 && earlyMisses == 0,
+      "FindFirstCrossing finds the first crossing of every value in the range, none outside (" +
+        std::to_string(earlyMisses) + " failures)");
+    check.Near(worstRoot, 0.0, 1e-14, "crossings are roots to double precision");
+  }
+
+  // Degenerate profiles, set from samples (exact dyadic values).
+  {
+    vtkTrilinearRayProfile p;
+    double t = -1.0, lo, hi;
+    p.SetFromSamples(2, 2, 2, 2); // flat data
+    check(p.FindFirstCrossing(2.0, 1.0, t) && t == 0.0, "flat profile at the value: hit at 0");
+    check(!p.FindFirstCrossing(2.5, 1.0, t), "flat profile off the value: miss");
+    p.GetRange(1.0, lo, hi);
+    check(lo == 2.0 && hi == 2.0, "flat profile: range [2, 2]");
+    double tc[2];
+    check(p.GetCriticalPoints(1.0, tc) == 0, "flat profile: no critical point");
+    p.SetFromSamples(0, 1, 2, 3); // linear: a = b = 0
+    check(p.FindFirstCrossing(1.5, 3.0, t) && std::abs(t - 0.5) < 1e-15,
+      "linear profile: root of the line");
+    check(p.GetCriticalPoints(1.0, tc) == 0, "linear profile: no critical point");
+    // s = (t - 1/2)^2: a = 0, a tangent touch at the value 0 is a hit at exactly 1/2.
+    p.SetFromSamples(0.25, 1.0 / 36.0, 1.0 / 36.0, 0.25);
+    check(p.GetCriticalPoints(1.0, tc) == 1 && std::abs(tc[0] - 0.5) < 1e-15,
+      "parabola: one critical point at 1/2");
+    check(p.FindFirstCrossing(0.0, 1.0, t) && std::abs(t - 0.5) < 1e-8,
+      "tangent ray touching the value: hit at the touching point");
+    check(!p.FindFirstCrossing(-1e-6, 1.0, t), "tangent ray passing just beside the value: miss");
+    p.GetRange(1.0, lo, hi);
+    check(std::abs(lo) < 1e-15 && hi == 0.25, "parabola: range [0, 1/4]");
+    // s = 4 (t - 1/2)^3: double root of the derivative (zero-slope inflection).
+    p.SetFromSamples(-0.5, -1.0 / 54.0, 1.0 / 54.0, 0.5);
+    check(p.GetCriticalPoints(1.0, tc) == 1 && std::abs(tc[0] - 0.5) < 1e-7,
+      "zero-slope inflection: one critical point");
+    check(p.FindFirstCrossing(0.0, 1.0, t) && std::abs(t - 0.5) < 1e-5,
+      "zero-slope inflection: crossing at 1/2");
+    // Value equal to the end sample (a voxel value on an axis-aligned ray): hit at the end;
+    // equal to both end samples of a bump: hit at the start.
+    p.SetFromSamples(0, 1, 2, 3);
+    check(p.FindFirstCrossing(3.0, 1.0, t) && t == 1.0, "value equal to the end sample: t = 1");
+    p.SetFromSamples(1, 2, 2, 1);
+    check(p.FindFirstCrossing(1.0, 1.0, t) && t == 0.0, "value equal to the start sample: t = 0");
+    // A profile that rises above the value and comes back inside one cell: the first of two.
+    p.SetFromSamples(0, 1, 1, 0); // s = 4.5 t (1 - t)
+    check(p.FindFirstCrossing(1.0, 1.0, t) && std::abs(t - (0.5 - std::sqrt(1.0 / 36.0))) < 1e-12,
+      "two crossings in a cell: the first");
+    p.GetRange(1.0, lo, hi);
+    check(std::abs(hi - 1.125) < 1e-15, "analytic maximum between samples: 9/8 at t = 1/2");
   }
 
   std::cout << "largest deviations: value " << worstValue << ", derivative " << worstDerivative
