@@ -2,13 +2,17 @@
 #include "vtkCameraRayModel.h"
 
 #include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
 #include "vtkGridRayTraversal.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 vtkStandardNewMacro(vtkCameraRayModel);
 vtkCxxSetObjectMacro(vtkCameraRayModel, Camera, vtkCamera);
@@ -142,6 +146,88 @@ vtkIdType vtkCameraRayModel::CountFixedStepSamples(vtkImageData* volume, double 
     }
   }
   return count;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkCameraRayModel::CountCellVisits(vtkImageData* volume) const
+{
+  if (!volume)
+  {
+    return -1;
+  }
+  int dims[3];
+  volume->GetDimensions(dims);
+  const int* extent = volume->GetExtent();
+  const double* m = volume->GetPhysicalToIndexMatrix()->GetData();
+  vtkIdType count = 0;
+  for (int j = 0; j < this->ImageSize[1]; ++j)
+  {
+    for (int i = 0; i < this->ImageSize[0]; ++i)
+    {
+      double origin[3], direction[3], o[3], v[3];
+      this->GetPixelRay(i, j, origin, direction);
+      for (int r = 0; r < 3; ++r)
+      {
+        o[r] = m[4 * r] * origin[0] + m[4 * r + 1] * origin[1] + m[4 * r + 2] * origin[2] +
+          m[4 * r + 3] - extent[2 * r];
+        v[r] = m[4 * r] * direction[0] + m[4 * r + 1] * direction[1] + m[4 * r + 2] * direction[2];
+      }
+      vtkGridRayTraversal walk;
+      if (walk.Initialize(dims, o, v, 0.0, VTK_DOUBLE_MAX))
+      {
+        int cell[3];
+        double t0, t1;
+        while (walk.Next(cell, t0, t1))
+        {
+          ++count;
+        }
+      }
+    }
+  }
+  return count;
+}
+
+//------------------------------------------------------------------------------
+void vtkCameraRayModel::ComputeDepths(vtkImageData* volume,
+  vtkDataArray* positions,
+  vtkFloatArray* depth) const
+{
+  const vtkIdType n = static_cast<vtkIdType>(this->ImageSize[0]) * this->ImageSize[1];
+  if (!volume || !positions || !depth || positions->GetNumberOfComponents() != 4 ||
+    positions->GetNumberOfTuples() != n)
+  {
+    vtkErrorMacro("ComputeDepths needs a volume, W x H positions of 4 components and an "
+                  "output array.");
+    return;
+  }
+  depth->SetNumberOfComponents(1);
+  depth->SetNumberOfTuples(n);
+  const int* extent = volume->GetExtent();
+  const double* m = volume->GetIndexToPhysicalMatrix()->GetData();
+  for (vtkIdType p = 0; p < n; ++p)
+  {
+    double q[4];
+    positions->GetTuple(p, q);
+    if (!(q[3] > 0.0))
+    {
+      depth->SetValue(p, std::numeric_limits<float>::quiet_NaN());
+      continue;
+    }
+    double origin[3], direction[3], world[3];
+    this->GetPixelRay(static_cast<int>(p % this->ImageSize[0]),
+      static_cast<int>(p / this->ImageSize[0]),
+      origin,
+      direction);
+    const double index[3] = { q[0] + extent[0], q[1] + extent[2], q[2] + extent[4] };
+    double d = 0.0;
+    for (int r = 0; r < 3; ++r)
+    {
+      world[r] =
+        m[4 * r] * index[0] + m[4 * r + 1] * index[1] + m[4 * r + 2] * index[2] + m[4 * r + 3];
+      d += (world[r] - origin[r]) * direction[r];
+    }
+    depth->SetValue(p, static_cast<float>(d));
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -22,6 +22,8 @@
 #include "vtkObject.h"
 
 class vtkCamera;
+class vtkDataArray;
+class vtkFloatArray;
 class vtkImageData;
 
 class HOVRRENDERINGCORE_EXPORT vtkCameraRayModel : public vtkObject
@@ -71,6 +73,21 @@ public:
    * positive.
    */
   vtkIdType CountFixedStepSamples(vtkImageData* volume, double step) const;
+
+  /**
+   * Cells of the volume's grid that the pixel rays cross, summed over the image (the cells an
+   * analytic ray caster visits without early termination). Requires Prepare().
+   */
+  vtkIdType CountCellVisits(vtkImageData* volume) const;
+
+  /**
+   * Depth of surface hits given as grid positions: for each pixel, positions holds (i, j, k,
+   * w) in 0-based continuous grid index of the volume; where w > 0, depth is the world
+   * distance along the pixel's ray from its origin to the projection of that point onto the
+   * ray, else NaN. positions has W x H tuples of 4 components; depth is resized to W x H.
+   * Requires Prepare().
+   */
+  void ComputeDepths(vtkImageData* volume, vtkDataArray* positions, vtkFloatArray* depth) const;
 
   vtkMTimeType GetMTime() override;
 

@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
+#include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkObjectFactory.h"
@@ -141,4 +142,44 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(vtkDataArray* scalars,
+  double& scale,
+  double& shift)
+{
+  // vtkVolumeTexture uploads 8- and 16-bit integers as normalised textures (signed ones with
+  // SNORM, clamped at -1) and floats as they are; wider types become floats rescaled so that
+  // the finite range maps to [0, 1].
+  shift = 0.0;
+  switch (scalars->GetDataType())
+  {
+    case VTK_UNSIGNED_CHAR:
+      scale = 255.0;
+      break;
+    case VTK_SIGNED_CHAR:
+    case VTK_CHAR:
+      scale = 127.0;
+      break;
+    case VTK_UNSIGNED_SHORT:
+      scale = 65535.0;
+      break;
+    case VTK_SHORT:
+      scale = 32767.0;
+      break;
+    case VTK_FLOAT:
+      scale = 1.0;
+      break;
+    default:
+    {
+      double range[2];
+      scalars->GetFiniteRange(range, 0);
+      // The range is rounded to float before VTK computes its scale.
+      const double lo = static_cast<float>(range[0]);
+      const double hi = static_cast<float>(range[1]);
+      scale = hi > lo ? hi - lo : 1.0;
+      shift = lo;
+    }
+  }
 }

@@ -69,6 +69,13 @@ public:
     TagPlacement placement);
 
   /**
+   * Affine map from the raw value VTK's volume texture returns for an array of this type to
+   * the data value: value = raw * scale + shift. Depends on how vtkVolumeTexture uploads each
+   * scalar type (normalised integer formats, or a float copy rescaled to the range).
+   */
+  static void GetTextureValueMapping(vtkDataArray* scalars, double& scale, double& shift);
+
+  /**
    * The fragment shader of the last program built with the extension, after every
    * replacement: the code that runs, for inspection and tests. Empty before the first build.
    */

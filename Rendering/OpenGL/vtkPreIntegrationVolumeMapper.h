@@ -192,13 +192,6 @@ public:
    */
   int GetEffectiveTablePrecision();
 
-  /**
-   * Affine map from the raw value VTK's volume texture returns for an array of this type to
-   * the data value: value = raw * scale + shift. Depends on how vtkVolumeTexture uploads each
-   * scalar type (normalised integer formats, or a float copy rescaled to the range).
-   */
-  static void GetTextureValueMapping(vtkDataArray* scalars, double& scale, double& shift);
-
 protected:
   vtkPreIntegrationVolumeMapper();
   ~vtkPreIntegrationVolumeMapper() override;

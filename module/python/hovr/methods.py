@@ -10,7 +10,7 @@ vtkVolumeReferenceIntegrator. Adding a method means adding one entry to ``METHOD
 import statistics
 import time
 
-from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonCore import vtkCommand, vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
 # The OpenGL factories must be loaded for the window and mapper overrides.
@@ -23,16 +23,27 @@ from . import hovrRenderingOpenGL as gl
 from .io import HovrError
 
 
-class Scene:
-    """What is rendered: a checked volume, a volume property, a camera and an image size."""
+# Blend modes by name, with vtkVolumeMapper's values; the arrays hovr render adds for them.
+BLEND_MODES = {"composite": 0, "mip": 1, "minip": 2, "iso": 5}
+BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
 
-    def __init__(self, image, prop, camera, size):
+
+class Scene:
+    """What is rendered: a checked volume, a volume property (with the isosurface values for
+    ``iso``), a camera, an image size and a blend mode (a key of BLEND_MODES)."""
+
+    def __init__(self, image, prop, camera, size, blend="composite"):
         self.image = image
         self.prop = prop
         self.camera = camera
         self.size = (int(size[0]), int(size[1]))
         if min(self.size) < 1:
             raise HovrError("the image size must be at least 1x1, got %dx%d" % self.size)
+        if blend not in BLEND_MODES:
+            raise HovrError("unknown blend mode %r (known: %s)" % (blend, ", ".join(BLEND_MODES)))
+        if blend == "iso" and prop.GetIsoSurfaceValues().GetNumberOfContours() < 1:
+            raise HovrError("isosurface rendering needs at least one --isovalue")
+        self.blend = blend
 
     def step_length(self, step):
         """World length of a step given in units of the smallest voxel spacing."""
@@ -87,6 +98,7 @@ class Method:
 
     kind = "gpu"
     description = ""
+    blend = "composite"  # the blend mode the method renders; None: any (the reference)
 
     def __init__(self, name, description):
         self.name = name
@@ -125,8 +137,25 @@ class PreIntegrationMethod(Method):
                 "table_gpu_bytes": mapper.GetTableTextureMemorySize()}
 
 
+class AnalyticMethod(Method):
+    """vtkAnalyticVolumeMapper: analytic (exact) or VTK's stock isosurface and projections."""
+
+    def __init__(self, name, description, blend, analytic):
+        super().__init__(name, description)
+        self.blend = blend
+        self.analytic = analytic
+
+    def make_mapper(self):
+        mapper = gl.vtkAnalyticVolumeMapper()
+        mapper.SetMethod(mapper.ANALYTIC if self.analytic else mapper.STOCK)
+        mapper.SetBlendMode(BLEND_MODES[self.blend])
+        mapper.SetAutoAdjustSampleDistances(0)
+        return mapper
+
+
 class ReferenceMethod(Method):
     kind = "cpu"
+    blend = None
 
 
 METHODS = {m.name: m for m in (
@@ -139,6 +168,18 @@ METHODS = {m.name: m for m in (
     PreIntegrationMethod("preint2", "second-order pre-integration, 3D table over (front, "
                                     "middle, back) (vtkPreIntegrationVolumeMapper)",
                          gl.vtkPreIntegrationVolumeMapper.SECOND_ORDER),
+    AnalyticMethod("iso-analytic", "exact first hit of the trilinear isosurface, integer "
+                   "traversal, cubic per cell (vtkAnalyticVolumeMapper)", "iso", True),
+    AnalyticMethod("mip-analytic", "exact maximum intensity projection of the trilinear field "
+                   "(vtkAnalyticVolumeMapper)", "mip", True),
+    AnalyticMethod("minip-analytic", "exact minimum intensity projection of the trilinear "
+                   "field (vtkAnalyticVolumeMapper)", "minip", True),
+    AnalyticMethod("iso-stock", "VTK's sampled isosurface (ISOSURFACE_BLEND) at the step",
+                   "iso", False),
+    AnalyticMethod("mip-stock", "VTK's sampled maximum intensity projection at the step",
+                   "mip", False),
+    AnalyticMethod("minip-stock", "VTK's sampled minimum intensity projection at the step",
+                   "minip", False),
 )}
 
 
@@ -194,6 +235,10 @@ class Renderer:
         of them alike and their time ratios stay meaningful. Returns one RenderResult per run.
         """
         runs = [(get_method(m) if isinstance(m, str) else m, step) for m, step in runs]
+        for method, _ in runs:
+            if method.blend is not None and method.blend != scene.blend:
+                raise HovrError("method %s renders %s, the scene is set up for %s" % (
+                    method.name, method.blend, scene.blend))
         self._ensure_window(scene.size)
         renderer = self._renderer
         renderer.RemoveAllViewProps()
@@ -237,12 +282,16 @@ class Renderer:
             rays_ok = rays.Prepare()
             for index, (method, step) in enumerate(runs):
                 frame(index)
-                image = vtkImageData()
-                capture_errors = _Errors(self._capture)
-                self._capture.Capture(image)
-                capture_errors.close()
-                samples = rays.CountFixedStepSamples(scene.image, scene.step_length(step)) \
-                    if rays_ok else None
+                image = self._capture_image()
+                if method.blend in BLEND_ARRAYS:
+                    self._add_blend_array(image, scene, rays, mappers[index],
+                                          lambda: frame(index))
+                if not rays_ok:
+                    samples = None
+                elif isinstance(method, AnalyticMethod) and method.analytic:
+                    samples = rays.CountCellVisits(scene.image)  # cells, not samples
+                else:
+                    samples = rays.CountFixedStepSamples(scene.image, scene.step_length(step))
                 results.append(RenderResult(image, times[index], samples,
                                             method.statistics(mappers[index])))
         finally:
@@ -250,8 +299,38 @@ class Renderer:
             errors.close()
         return results
 
+    def _capture_image(self):
+        image = vtkImageData()
+        errors = _Errors(self._capture)
+        self._capture.Capture(image)
+        errors.close()
+        return image
+
+    def _add_blend_array(self, image, scene, rays, mapper, draw):
+        """Draw once more writing hit positions or extrema and add them as the Depth,
+        MaxScalar or MinScalar array of ``image`` (NaN where nothing was hit)."""
+        iso = scene.blend == "iso"
+        mapper.SetOutputQuantity(mapper.OUTPUT_POSITION if iso else mapper.OUTPUT_SCALAR)
+        try:
+            draw()
+            raw = self._capture_image().GetPointData().GetScalars()
+        finally:
+            mapper.SetOutputQuantity(mapper.OUTPUT_COLOR)
+        if iso:
+            values = vtkFloatArray()
+            rays.ComputeDepths(scene.image, raw, values)
+        else:
+            import numpy
+            from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+            rgba = vtk_to_numpy(raw)
+            values = numpy_to_vtk(numpy.where(rgba[:, 3] > 0, rgba[:, 0], numpy.nan)
+                                  .astype(numpy.float32), deep=1)
+        values.SetName(BLEND_ARRAYS[scene.blend])
+        image.GetPointData().AddArray(values)
+
     def _render_reference(self, scene, repeat):
         integrator = core.vtkVolumeReferenceIntegrator()
+        integrator.SetBlendMode(BLEND_MODES[scene.blend])
         integrator.SetInputData(scene.image)
         integrator.SetVolumeProperty(scene.prop)
         integrator.SetCamera(scene.camera)

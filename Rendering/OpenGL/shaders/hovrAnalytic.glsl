@@ -1,0 +1,312 @@
+// hovr: analytic isosurface and maximum/minimum intensity projection (Jozsa, Toth and
+// Csebfalvi, "Analytic isosurface rendering and maximum intensity projection on the GPU").
+// The ray visits every cell it crosses with the integer-based traversal of section 7 (the
+// only state is the integer coordinate of the next plane crossing per axis, so no rounding
+// accumulates; mirrored on the CPU by vtkGridRayTraversalT<float>). Inside a cell the
+// trilinear field along the ray is a cubic (Eq. 2), set from four samples (Eq. 3-4); its
+// extrema come from f'(t) = 0 (Eq. 5-6). The isosurface is searched only in the first cell
+// whose range holds an isovalue, and the maximum is the largest end point or interior
+// extremum of any cell (section 9).
+//
+// Samples are trilinear interpolations of the 8 corner voxels (texelFetch), computed in
+// float: hardware filtering weights have 8 bits on common GPUs and on llvmpipe, which would
+// move the surface by up to 1/256 of a voxel. The corner range of a cell bounds the
+// interpolant, so cells whose range cannot hold an isovalue (or beat the current maximum) are
+// skipped before any sample is computed.
+//
+// Switches defined before this code by vtkAnalyticVolumeMapper:
+//   HOVR_BLEND      1 maximum, 2 minimum intensity, 5 isosurface
+//   HOVR_ISO_COUNT  number of isovalues (isosurface only)
+//   HOVR_SHADE      1 when the volume property shades
+//   HOVR_OUTPUT     0 colour, 1 hit position (grid index, w = 1 on a hit), 2 extremum (data
+//                   units in x, w = 1 where the ray meets the volume)
+
+uniform vec2 hovr_rawToData; // data value = raw texture value * x + y
+#if HOVR_BLEND == 5
+uniform float hovr_isoRaw[HOVR_ISO_COUNT]; // isovalues in raw texture units
+#else
+uniform float hovr_rawExtreme; // the data's largest (MIP) or smallest (MinIP) raw value
+#endif
+
+// What HOVR_OUTPUT 1 and 2 write instead of the colour.
+vec4 hovr_output = vec4(0.0);
+
+// Corner values of the current cell: (v000, v100, v010, v110) and the same at k + 1.
+vec4 hovr_lower;
+vec4 hovr_upper;
+
+// Continuous grid index (point i at i) of a texture coordinate.
+vec3 hovr_textureToIndex(vec3 tex)
+{
+  vec3 last = vec3(textureSize(in_volume[0], 0) - ivec3(1));
+  return (tex - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) * last;
+}
+
+void hovr_fetchCorners(ivec3 c)
+{
+  hovr_lower = vec4(texelFetch(in_volume[0], c, 0).r, texelFetch(in_volume[0], c + ivec3(1, 0, 0), 0).r,
+    texelFetch(in_volume[0], c + ivec3(0, 1, 0), 0).r, texelFetch(in_volume[0], c + ivec3(1, 1, 0), 0).r);
+  hovr_upper = vec4(texelFetch(in_volume[0], c + ivec3(0, 0, 1), 0).r,
+    texelFetch(in_volume[0], c + ivec3(1, 0, 1), 0).r, texelFetch(in_volume[0], c + ivec3(0, 1, 1), 0).r,
+    texelFetch(in_volume[0], c + ivec3(1, 1, 1), 0).r);
+}
+
+// Trilinear interpolation of the corners at local coordinates u in [0, 1]^3.
+float hovr_trilinear(vec3 u)
+{
+  vec4 z = mix(hovr_lower, hovr_upper, u.z);
+  vec2 y = mix(z.xy, z.zw, u.y);
+  return mix(y.x, y.y, u.x);
+}
+
+// Exact gradient of the trilinear interpolant at u, per grid index unit.
+vec3 hovr_gradient(vec3 u)
+{
+  vec4 z = mix(hovr_lower, hovr_upper, u.z);
+  vec4 dz = hovr_upper - hovr_lower;
+  vec2 dzy = mix(dz.xy, dz.zw, u.y);
+  return vec3(mix(z.y - z.x, z.w - z.z, u.y), mix(z.z - z.x, z.w - z.y, u.x), mix(dzy.x, dzy.y, u.x));
+}
+
+// Eq. 4: the cubic a t^3 + b t^2 + c t + d through the samples f at t = 0, 1/3, 2/3, 1.
+vec4 hovr_cubic(vec4 f)
+{
+  return vec4(dot(f, vec4(-4.5, 13.5, -13.5, 4.5)), dot(f, vec4(9.0, -22.5, 18.0, -4.5)),
+    dot(f, vec4(-5.5, 9.0, -4.5, 1.0)), f.x);
+}
+
+// Eq. 5-6: the zeros of f'(t) = 3a t^2 + 2b t + c inside (0, 1), sorted; absent ones are 1.
+// The roots are taken as q / A and C / q, which avoids the cancellation of Eq. 6's "+-".
+vec2 hovr_criticalPoints(vec4 k)
+{
+  float A = 3.0 * k.x;
+  float B = 2.0 * k.y;
+  float C = k.z;
+  vec2 r = vec2(1.0);
+  if (A == 0.0)
+  {
+    r.x = B != 0.0 ? -C / B : 1.0;
+  }
+  else
+  {
+    float disc = B * B - 4.0 * A * C;
+    if (disc >= 0.0)
+    {
+      float q = -0.5 * (B + (B >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+      r = vec2(q / A, q != 0.0 ? C / q : 1.0);
+    }
+  }
+  r = mix(r, vec2(1.0), bvec2(!(r.x > 0.0 && r.x < 1.0), !(r.y > 0.0 && r.y < 1.0)));
+  return vec2(min(r.x, r.y), max(r.x, r.y));
+}
+
+#if HOVR_BLEND == 5
+// The first t in [0, 1] of the segment ua -> ub where the interpolant equals v, or -1. The
+// critical points cut the segment into monotone pieces; the first piece whose ends bracket
+// (or touch) v is bisected on the interpolant itself, whose float evaluation is more
+// accurate than the cubic's coefficients.
+float hovr_firstCrossing(vec3 ua, vec3 ub, vec2 critical, float v)
+{
+  float cuts[4] = float[4](0.0, critical.x, critical.y, 1.0);
+  for (int p = 0; p < 3; ++p)
+  {
+    float lo = cuts[p];
+    float hi = cuts[p + 1];
+    float glo = hovr_trilinear(mix(ua, ub, lo)) - v;
+    float ghi = hovr_trilinear(mix(ua, ub, hi)) - v;
+    if (glo == 0.0)
+    {
+      return lo;
+    }
+    if (ghi == 0.0)
+    {
+      return hi;
+    }
+    if ((glo < 0.0) == (ghi < 0.0))
+    {
+      continue;
+    }
+    for (int n = 0; n < 24; ++n)
+    {
+      float mid = 0.5 * (lo + hi);
+      float g = hovr_trilinear(mix(ua, ub, mid)) - v;
+      if ((g < 0.0) == (glo < 0.0))
+      {
+        lo = mid;
+      }
+      else
+      {
+        hi = mid;
+      }
+    }
+    return 0.5 * (lo + hi);
+  }
+  return -1.0;
+}
+#endif
+
+// Texture coordinate of the transfer functions for a raw value, as VTK's shader computes it.
+float hovr_transferCoord(float raw)
+{
+  return raw * in_volume_scale[0].r + in_volume_bias[0].r;
+}
+
+// Walks the whole ray; called once, where VTK initialises its sampling loop.
+void hovr_analyticRay()
+{
+  ivec3 dims = textureSize(in_volume[0], 0);
+  ivec3 lastCell = dims - ivec3(2);
+  vec3 last = vec3(dims - ivec3(1));
+  vec3 start = hovr_textureToIndex(ip_textureCoords.xyz);
+  vec3 ray = hovr_textureToIndex(g_rayTermination) - start;
+  float len = length(ray);
+  if (!(len > 0.0))
+  {
+    return;
+  }
+  vec3 dir = ray / len;
+  bvec3 still = equal(dir, vec3(0.0));
+  vec3 inv = 1.0 / mix(dir, vec3(1.0), still);
+  // Clip to the box of the points, [0, dims - 1]^3.
+  vec3 ta = -start * inv;
+  vec3 tb = (last - start) * inv;
+  vec3 tlo = mix(min(ta, tb), vec3(-1e30), still);
+  vec3 thi = mix(max(ta, tb), vec3(1e30), still);
+  // (GLSL has no && on boolean vectors: masks as 0/1 floats.)
+  vec3 outside = vec3(lessThan(start, vec3(0.0))) + vec3(greaterThan(start, last));
+  if (dot(vec3(still), outside) > 0.0)
+  {
+    return;
+  }
+  float t0 = max(max(max(tlo.x, tlo.y), tlo.z), 0.0);
+  float t1 = min(min(min(thi.x, thi.y), thi.z), len);
+  if (!(t0 < t1))
+  {
+    return;
+  }
+  vec3 entry = clamp(start + t0 * dir, vec3(0.0), last);
+  float span = t1 - t0;
+  // Section 7: the previous crossing is the entry rounded against the direction.
+  ivec3 iStep = ivec3(sign(dir));
+  ivec3 iNext = ivec3(mix(floor(entry), ceil(entry), lessThan(dir, vec3(0.0)))) + iStep;
+  vec3 pe = entry;
+#if HOVR_BLEND == 5
+  float lowestIso = hovr_isoRaw[0];
+  float highestIso = hovr_isoRaw[0];
+  for (int i = 1; i < HOVR_ISO_COUNT; ++i)
+  {
+    lowestIso = min(lowestIso, hovr_isoRaw[i]);
+    highestIso = max(highestIso, hovr_isoRaw[i]);
+  }
+#else
+  bool found = false;
+  float extreme = 0.0;
+#endif
+  int guard = 4 * (dims.x + dims.y + dims.z);
+  for (int n = 0; n < guard; ++n)
+  {
+    // Distances of the next crossings from the entry, from integers and constants only.
+    vec3 dNext = mix((vec3(iNext) - entry) * inv, vec3(1e30), still);
+    float d = min(min(dNext.x, dNext.y), dNext.z);
+    bvec3 crossed = lessThanEqual(dNext, vec3(d));
+    ivec3 cell = clamp(iNext - max(iStep, ivec3(0)), ivec3(0), lastCell);
+    // Leaving through a face of the box, even one rounding short of the exit distance.
+    vec3 face = mix(vec3(lessThanEqual(iNext, ivec3(0))), vec3(greaterThan(iNext, lastCell)),
+      vec3(greaterThan(iStep, ivec3(0))));
+    bool leaving = d >= span || dot(vec3(crossed), face) > 0.0;
+    // Planes crossed at the exit point are exact integers.
+    vec3 px = leaving ? clamp(entry + span * dir, vec3(0.0), last) : mix(entry + d * dir, vec3(iNext), crossed);
+    hovr_fetchCorners(cell);
+    vec4 lo4 = min(hovr_lower, hovr_upper);
+    vec4 hi4 = max(hovr_lower, hovr_upper);
+    float lo = min(min(lo4.x, lo4.y), min(lo4.z, lo4.w));
+    float hi = max(max(hi4.x, hi4.y), max(hi4.z, hi4.w));
+    vec3 ua = pe - vec3(cell);
+    vec3 ub = px - vec3(cell);
+#if HOVR_BLEND == 5
+    if (hi >= lowestIso && lo <= highestIso)
+    {
+      vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
+        hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
+      vec2 critical = hovr_criticalPoints(hovr_cubic(f));
+      float best = 2.0;
+      float bestIso = 0.0;
+      for (int i = 0; i < HOVR_ISO_COUNT; ++i)
+      {
+        if (hovr_isoRaw[i] >= lo && hovr_isoRaw[i] <= hi)
+        {
+          float t = hovr_firstCrossing(ua, ub, critical, hovr_isoRaw[i]);
+          if (t >= 0.0 && t < best)
+          {
+            best = t;
+            bestIso = hovr_isoRaw[i];
+          }
+        }
+      }
+      if (best <= 1.0)
+      {
+        vec3 u = mix(ua, ub, best);
+        hovr_output = vec4(vec3(cell) + u, 1.0);
+        vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(hovr_transferCoord(bestIso), 0.0)).rgb;
+#if HOVR_SHADE
+        // A white headlight along the ray, two-sided; angles in physical space: the gradient
+        // per unit length is g / spacing, the ray direction dir * spacing.
+        vec3 normal = hovr_gradient(u) / in_cellSpacing[0];
+        vec3 view = dir * in_cellSpacing[0];
+        float nl = length(normal) > 0.0 ? abs(dot(normalize(normal), normalize(view))) : 0.0;
+        rgb = rgb * (in_ambient[0].x + in_diffuse[0].x * nl) +
+          vec3(nl > 0.0 ? in_specular[0].x * pow(nl, in_shininess[0]) : 0.0);
+#endif
+        g_fragColor = vec4(min(rgb, vec3(1.0)), 1.0);
+        return;
+      }
+    }
+#else
+#if HOVR_BLEND == 1
+    bool better = !found || hi > extreme;
+#else
+    bool better = !found || lo < extreme;
+#endif
+    if (better && !isnan(lo + hi))
+    {
+      vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
+        hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
+      vec2 critical = hovr_criticalPoints(hovr_cubic(f));
+      float c1 = critical.x < 1.0 ? hovr_trilinear(mix(ua, ub, critical.x)) : f.w;
+      float c2 = critical.y < 1.0 ? hovr_trilinear(mix(ua, ub, critical.y)) : f.w;
+#if HOVR_BLEND == 1
+      float candidate = max(max(f.x, f.w), max(c1, c2));
+      extreme = found ? max(extreme, candidate) : candidate;
+#else
+      float candidate = min(min(f.x, f.w), min(c1, c2));
+      extreme = found ? min(extreme, candidate) : candidate;
+#endif
+      found = true;
+#if HOVR_BLEND == 1
+      if (extreme >= hovr_rawExtreme)
+#else
+      if (extreme <= hovr_rawExtreme)
+#endif
+      {
+        break; // nothing along the ray can beat the data's own extreme
+      }
+    }
+#endif
+    if (leaving)
+    {
+      break;
+    }
+    iNext += iStep * ivec3(crossed);
+    pe = px;
+  }
+#if HOVR_BLEND != 5
+  if (found)
+  {
+    hovr_output = vec4(extreme * hovr_rawToData.x + hovr_rawToData.y, 0.0, 0.0, 1.0);
+    float coord = hovr_transferCoord(extreme);
+    float opacity = texture2D(in_opacityTransferFunc_0[0], vec2(coord, 0.0)).r;
+    vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(coord, 0.0)).rgb;
+    g_fragColor = vec4(rgb * opacity, opacity);
+  }
+#endif
+}

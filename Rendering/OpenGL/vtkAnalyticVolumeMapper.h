@@ -1,0 +1,114 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkAnalyticVolumeMapper
+ * @brief   exact first-hit isosurfaces and exact maximum/minimum intensity projection on the GPU
+ *
+ * VTK's GPU ray caster with the analytic ray profiles of Jozsa, Toth and Csebfalvi
+ * ("Analytic isosurface rendering and maximum intensity projection on the GPU"). Each ray
+ * visits every cell it crosses, with the integer-based traversal of their section 7, and
+ * treats the trilinear field along the ray in a cell as the cubic it is: the isosurface is the
+ * exact first crossing of the trilinear field, the projections the exact extremum, with no
+ * sample distance to choose. The blend mode is the mapper's (SetBlendMode):
+ *   - ISOSURFACE_BLEND: an opaque surface at the first crossing of any of the volume
+ *     property's isosurface values (vtkVolumeProperty::GetIsoSurfaceValues()), coloured by the
+ *     colour transfer function at its isovalue; when the property shades, lit by a white
+ *     headlight along the ray with the exact gradient of the trilinear field (ambient +
+ *     diffuse |n.v| + specular |n.v|^power, two-sided). Opacity and gradient opacity
+ *     functions do not apply: the surface is opaque.
+ *   - MAXIMUM_INTENSITY_BLEND / MINIMUM_INTENSITY_BLEND: the exact extremum along the ray,
+ *     shown through the colour and opacity transfer functions as VTK's projections are.
+ *   - other blend modes are drawn by VTK's stock shader, with a warning.
+ * vtkVolumeReferenceIntegrator computes the same quantities in double precision.
+ *
+ * Method STOCK draws with VTK's own shader (its sampled isosurface and projections), so the
+ * two can be compared through the same OutputQuantity.
+ *
+ * Limits (each reported once, then VTK's stock shader draws): single-component point scalars
+ * in one texture block (no cell data, no partitioned volumes), no cropping, 1D transfer
+ * functions. Empty volumes or volumes with fewer than 2 points along an axis are not drawn,
+ * with an error.
+ */
+#ifndef vtkAnalyticVolumeMapper_h
+#define vtkAnalyticVolumeMapper_h
+
+#include "hovrRenderingOpenGLModule.h" // For export macro
+#include "vtkExtensibleGPUVolumeRayCastMapper.h"
+
+#include <string> // For std::string
+#include <vector> // For std::vector
+
+class HOVRRENDERINGOPENGL_EXPORT vtkAnalyticVolumeMapper
+  : public vtkExtensibleGPUVolumeRayCastMapper
+{
+public:
+  static vtkAnalyticVolumeMapper* New();
+  vtkTypeMacro(vtkAnalyticVolumeMapper, vtkExtensibleGPUVolumeRayCastMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum Methods
+  {
+    STOCK = 0,   ///< VTK's sampled isosurface and projections, at the sample distance
+    ANALYTIC = 1 ///< exact first hit and extrema of the trilinear field
+  };
+
+  enum OutputQuantities
+  {
+    OUTPUT_COLOR = 0,    ///< the image
+    OUTPUT_POSITION = 1, ///< RGBA = (grid index of the surface hit, 1); 0 on a miss
+    OUTPUT_SCALAR = 2    ///< RGBA = (extremum in data units, 0, 0, 1); 0 where the ray misses
+  };
+
+  ///@{
+  /**
+   * How the blend mode is computed. Initial value is ANALYTIC.
+   */
+  vtkSetClampMacro(Method, int, STOCK, ANALYTIC);
+  vtkGetMacro(Method, int);
+  void SetMethodToStock() { this->SetMethod(STOCK); }
+  void SetMethodToAnalytic() { this->SetMethod(ANALYTIC); }
+  ///@}
+
+  ///@{
+  /**
+   * What the fragments write: the colour, or, for measurements (hovr render's Depth and
+   * MaxScalar/MinScalar arrays, read back with vtkFloatRGBARenderCapture), the surface hit
+   * position (isosurface) or the extremum (projections). With Method STOCK the position is
+   * the first sample past VTK's detected crossing, the extremum VTK's sampled one. Initial
+   * value is OUTPUT_COLOR.
+   */
+  vtkSetClampMacro(OutputQuantity, int, OUTPUT_COLOR, OUTPUT_SCALAR);
+  vtkGetMacro(OutputQuantity, int);
+  ///@}
+
+protected:
+  vtkAnalyticVolumeMapper();
+  ~vtkAnalyticVolumeMapper() override;
+
+  FramePlan PrepareExtension(vtkRenderer* ren, vtkVolume* vol) override;
+  bool ReplaceExtensionShaderValues(std::string& vertexShader,
+    std::string& fragmentShader,
+    vtkVolume* vol) override;
+  void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume* vol) override;
+
+  // Why the analytic shader cannot draw this frame, or nullptr.
+  const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars, int cellFlag);
+  // Warn once per distinct reason.
+  void WarnOnce(const char* reason);
+
+  int Method = ANALYTIC;
+  int OutputQuantity = OUTPUT_COLOR;
+
+  // Per frame: what the shader is built for and the values it needs.
+  bool StockThisFrame = false;
+  std::string ShaderKey;
+  std::vector<float> IsoRaw;
+  float RawToData[2] = { 1.0f, 0.0f };
+  float RawExtreme = 0.0f;
+  std::string LastWarning;
+
+private:
+  vtkAnalyticVolumeMapper(const vtkAnalyticVolumeMapper&) = delete;
+  void operator=(const vtkAnalyticVolumeMapper&) = delete;
+};
+
+#endif
