@@ -21,6 +21,12 @@ A bench configuration is a JSON object::
 Instead of methods x steps, ``"runs": [["preint1", 2], ["preint2", 2], ["stock", 0.25]]``
 (top level or per dataset) lists method-step pairs, and ``"baseline": ["preint1", 2]`` names
 the run that the ms and RMSE ratio columns compare with (default: stock at the same step).
+``"blend": "iso" | "mip" | "minip"`` in a dataset renders that blend mode (methods
+``iso-analytic``, ``iso-stock``, ...), with ``"isovalues": [v, ...]`` for ``iso``; its rows
+add the measures of the analytic paper against the float64 reference: for ``iso`` the pixels
+both hit, the hit/miss disagreements (surfaces the method misses, hits the reference lacks)
+and the depth error in voxels (largest, 99th percentile, mean) where both hit; for the
+projections the largest and mean error of the extremum as a fraction of the data range.
 ``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
 image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
 approximations with the error term xi of El Hajjar et al., section 3.2.
@@ -51,7 +57,10 @@ from .io import HovrError
 CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
               "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
               "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
-              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes"]
+              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes",
+              "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
+              "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
+              "extremum_max_error", "extremum_mean_error"]
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -73,7 +82,8 @@ def _expand(value, base):
 
 
 def load_volume(spec, base=None):
-    """A volume from a dataset entry or an --input string: a path or ``marschner-lobb[:N]``."""
+    """A volume from a dataset entry or an --input string: a path, ``marschner-lobb[:N]`` or
+    ``thin-features[:N]`` (vtkThinFeatureSource)."""
     source = spec["input"]
     if source.startswith("marschner-lobb"):
         from . import hovrFiltersSources as sources
@@ -81,6 +91,15 @@ def load_volume(spec, base=None):
         if size < 2:
             raise HovrError("marschner-lobb needs at least 2 points per axis")
         generator = sources.vtkMarschnerLobbSource()
+        generator.SetDimensions(size, size, size)
+        generator.Update()
+        return generator.GetOutput()
+    if source.startswith("thin-features"):
+        from . import hovrFiltersSources as sources
+        size = int(source.split(":")[1]) if ":" in source else 64
+        if size < 2:
+            raise HovrError("thin-features needs at least 2 points per axis")
+        generator = sources.vtkThinFeatureSource()
         generator.SetDimensions(size, size, size)
         generator.Update()
         return generator.GetOutput()
@@ -129,7 +148,12 @@ def _scene_for(spec, base, size):
         camera = hio.default_camera(image.GetBounds())
     with open(tf_path, "rb") as stream:
         prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit]
-    return hm.Scene(image, prop, camera, size), warnings, prop_desc
+    blend = spec.get("blend", "composite")
+    isovalues = [float(v) for v in spec.get("isovalues", [])]
+    for k, value in enumerate(isovalues):
+        prop.GetIsoSurfaceValues().SetValue(k, value)
+    prop_desc += [blend, isovalues]
+    return hm.Scene(image, prop, camera, size, blend), warnings, prop_desc
 
 
 def run(config_path, output, log=print, renderer=None):
@@ -175,6 +199,8 @@ def run(config_path, output, log=print, renderer=None):
                 errors, difference = hm.compare(result.image, reference)
                 row = result.summary(method.name, step)
                 row.update(errors)
+                if scene.blend != "composite":
+                    row.update(hm.compare_blend(result.image, reference, scene))
                 row["dataset"] = name
                 dataset_rows.append(row)
                 stem = "%s_%s_step%g" % (name, method.name, step)
@@ -182,8 +208,9 @@ def run(config_path, output, log=print, renderer=None):
                 hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
                                 array="Difference", scale=10.0)
                 panels.append((row, result.image, difference))
-                log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f" % (
-                    name, method.name, step, row["median_ms"], row["rmse"], row["max_error"]))
+                log("%-10s %-9s step %-5g %9.2f ms  rmse %.5f  max %.4f%s" % (
+                    name, method.name, step, row["median_ms"], row["rmse"], row["max_error"],
+                    hm.format_blend(row)))
             from . import plot
             plot.side_by_side(name, reference, panels,
                               os.path.join(output, name + "_side_by_side.png"))

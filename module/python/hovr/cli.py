@@ -69,7 +69,8 @@ def build_parser():
         "from left and bottom) or .png (composited over black, for looking)."))
     render.add_argument("--input", required=True, help=(
         "volume: .vti, .mhd, .nii, .nii.gz, .slc, legacy .vtk structured points, raw (with "
-        "--dims and --type), or marschner-lobb[:N] for the generated test volume"))
+        "--dims and --type), marschner-lobb[:N] or thin-features[:N] (sheets and tubes "
+        "thinner than a voxel) for the generated test volumes"))
     render.add_argument("--dims", nargs=3, type=_size, metavar=("X", "Y", "Z"),
                         help="raw input: points along x, y, z (x fastest)")
     render.add_argument("--type", choices=sorted(RAW_TYPES), help="raw input: scalar type "
@@ -91,7 +92,14 @@ def build_parser():
                             "%s = %s" % (m.name, m.description) for m in METHODS.values()))
     render.add_argument("--step", type=_positive, default=1.0, help="sampling step in units "
                         "of the smallest voxel spacing (default 1)")
-    render.add_argument("--output", help="output image, .vti or .png")
+    render.add_argument("--isovalue", type=float, action="append", metavar="V",
+                        help="isosurface value in data units, repeatable (iso methods; the "
+                        "nearest surface of any value is drawn)")
+    render.add_argument("--blend", choices=["composite", "iso", "mip", "minip"],
+                        help="blend mode of the reference method (other methods imply theirs)")
+    render.add_argument("--output", help="output image, .vti or .png; iso methods add a "
+                        "Depth array (world distance along the pixel ray, NaN on a miss), "
+                        "projections MaxScalar or MinScalar (data units, NaN off the volume)")
     render.add_argument("--repeat", type=_count, default=0, metavar="N", help="after one "
                         "warm-up frame render N timed frames and print one JSON line")
     render.add_argument("--reference", metavar="REF.vti", help="also print the error "
@@ -139,7 +147,16 @@ def cmd_render(args):
     prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
     camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
         image.GetBounds())
-    scene = hm.Scene(image, prop, camera, args.size)
+    method = hm.get_method(args.method)
+    if method.blend and args.blend and args.blend != method.blend:
+        raise HovrError("--blend %s contradicts method %s, which renders %s" % (
+            args.blend, method.name, method.blend))
+    for k, value in enumerate(args.isovalue or []):
+        if not math.isfinite(value):
+            raise HovrError("--isovalue must be finite, got %s" % value)
+        prop.GetIsoSurfaceValues().SetValue(k, value)
+    scene = hm.Scene(image, prop, camera, args.size,
+                     method.blend or args.blend or "composite")
     renderer = hm.Renderer()
     try:
         result = renderer.render(args.method, scene, args.step, args.repeat)
@@ -149,9 +166,12 @@ def cmd_render(args):
         hio.write_image(result.image, args.output)
     line = result.summary(args.method, args.step) if args.repeat > 0 else None
     if args.reference:
-        errors, _ = hm.compare(result.image, hio.read_vti(args.reference))
+        reference = hio.read_vti(args.reference)
+        errors, _ = hm.compare(result.image, reference)
         line = line or {"method": args.method, "step": args.step}
         line.update(errors)
+        if scene.blend != "composite":
+            line.update(hm.compare_blend(result.image, reference, scene))
     if line is not None:
         print(json.dumps(line))
     return 0
