@@ -16,6 +16,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
 from vtkmodules.vtkIOLegacy import vtkPolyDataWriter
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter
 
+from hovr import io as hio
 from hovrtesting import Checker, run_cli, tf_path
 
 c = Checker()
@@ -162,6 +163,11 @@ numpy.zeros(10, numpy.uint8).tofile(small_raw)
 missing = os.path.join(tmp, "does-not-exist.vti")
 good = ["--tf", TF, "--size", 16, 16]
 cases = [
+    ("isosurface without --isovalue", ["--input", "marschner-lobb:9", "--method",
+                                       "iso-analytic"] + good, "--isovalue"),
+    ("--blend contradicting the method", ["--input", "marschner-lobb:9", "--method",
+                                          "mip-analytic", "--blend", "iso"] + good,
+     "contradicts"),
     ("missing input", ["--input", missing] + good, "not found"),
     ("unreadable input", ["--input", garbage] + good, "cannot read"),
     ("a directory as input", ["--input", tmp] + good, "not found"),
@@ -203,4 +209,24 @@ for what, args, message in cases:
     c.check(code == 2, "%s: exit code 2 (got %d)" % (what, code))
     c.check(message in stderr, "%s: message mentions %r: %s" % (what, message, stderr.strip()))
     c.check("Traceback" not in stderr, "%s: no traceback" % what)
+# Isosurfaces and projections: the Depth and MaxScalar arrays, compared with the reference.
+iso_ref = os.path.join(tmp, "iso_ref.vti")
+iso_out = os.path.join(tmp, "iso.vti")
+common = ["--input", "marschner-lobb:21", "--tf", tf_path("iso-opaque"), "--size", 48, 48,
+          "--isovalue", 0.5]
+run_cli("render", *common, "--method", "reference", "--blend", "iso", "--output", iso_ref)
+_, stdout, _ = run_cli("render", *common, "--method", "iso-analytic", "--output", iso_out,
+                       "--reference", iso_ref)
+line = json.loads(stdout)
+depth = vtk_to_numpy(hio.read_vti(iso_out).GetPointData().GetArray("Depth"))
+c.check(numpy.isfinite(depth).sum() > 100 and numpy.isnan(depth).sum() > 100,
+        "iso-analytic writes a Depth array with hits and NaN misses")
+c.check(line["hit_miss_disagreements"] == 0 and line["depth_max_error_voxels"] < 1e-3,
+        "iso-analytic against the reference from the command line: %s" % stdout.strip())
+mip_out = os.path.join(tmp, "mip.vti")
+run_cli("render", "--input", "marschner-lobb:21", "--tf", TF, "--size", 32, 32, "--method",
+        "mip-stock", "--step", 0.5, "--output", mip_out)
+maximum = vtk_to_numpy(hio.read_vti(mip_out).GetPointData().GetArray("MaxScalar"))
+c.check(numpy.nanmax(maximum) <= 1.0 + 1e-6 and numpy.isfinite(maximum).sum() > 100,
+        "mip-stock writes a MaxScalar array in data units")
 c.finish()

@@ -22,7 +22,8 @@ Instead of methods x steps, ``"runs": [["preint1", 2], ["preint2", 2], ["stock",
 (top level or per dataset) lists method-step pairs, and ``"baseline": ["preint1", 2]`` names
 the run that the ms and RMSE ratio columns compare with (default: stock at the same step).
 ``"blend": "iso" | "mip" | "minip"`` in a dataset renders that blend mode (methods
-``iso-analytic``, ``iso-stock``, ...), with ``"isovalues": [v, ...]`` for ``iso``; its rows
+``iso-analytic``, ``iso-stock``, ...), with ``"isovalues": [v, ...]`` for ``iso`` and
+``"shade": true`` to light the surface; its rows
 add the measures of the analytic paper against the float64 reference: for ``iso`` the pixels
 both hit, the hit/miss disagreements (surfaces the method misses, hits the reference lacks)
 and the depth error in voxels (largest, 99th percentile, mean) where both hit; for the
@@ -60,7 +61,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
-              "extremum_max_error", "extremum_mean_error"]
+              "depth_outliers", "extremum_max_error", "extremum_mean_error"]
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -148,11 +149,15 @@ def _scene_for(spec, base, size):
         camera = hio.default_camera(image.GetBounds())
     with open(tf_path, "rb") as stream:
         prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit]
+    if spec.get("shade"):
+        prop.ShadeOn()
     blend = spec.get("blend", "composite")
     isovalues = [float(v) for v in spec.get("isovalues", [])]
+    if blend == "iso" and not isovalues:
+        raise HovrError("dataset %s: an iso dataset needs \"isovalues\"" % spec.get("name", ""))
     for k, value in enumerate(isovalues):
         prop.GetIsoSurfaceValues().SetValue(k, value)
-    prop_desc += [blend, isovalues]
+    prop_desc += [blend, isovalues, bool(spec.get("shade"))]
     return hm.Scene(image, prop, camera, size, blend), warnings, prop_desc
 
 

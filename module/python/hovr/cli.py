@@ -151,6 +151,8 @@ def cmd_render(args):
     if method.blend and args.blend and args.blend != method.blend:
         raise HovrError("--blend %s contradicts method %s, which renders %s" % (
             args.blend, method.name, method.blend))
+    if (method.blend or args.blend) == "iso" and not args.isovalue:
+        raise HovrError("isosurface rendering needs at least one --isovalue")
     for k, value in enumerate(args.isovalue or []):
         if not math.isfinite(value):
             raise HovrError("--isovalue must be finite, got %s" % value)

@@ -12,7 +12,7 @@ import time
 
 from vtkmodules.vtkCommonCore import vtkCommand, vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume  # noqa: F401
 # The OpenGL factories must be loaded for the window and mapper overrides.
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
@@ -396,7 +396,8 @@ def compare_blend(image, reference, scene):
                 "depth_max_error_voxels": float(error.max()) if both.any() else 0.0,
                 "depth_p99_error_voxels": float(numpy.percentile(error, 99)) if both.any()
                 else 0.0,
-                "depth_mean_error_voxels": float(error.mean()) if both.any() else 0.0}
+                "depth_mean_error_voxels": float(error.mean()) if both.any() else 0.0,
+                "depth_outliers": int((error > 1e-3).sum())}
     scalars = scene.image.GetPointData().GetScalars()
     low, high = scalars.GetFiniteRange() if hasattr(scalars, "GetFiniteRange") \
         else scalars.GetRange()
@@ -411,9 +412,10 @@ def compare_blend(image, reference, scene):
 def format_blend(row):
     """A short text of compare_blend's measures for log lines ('' for composite rows)."""
     if "depth_max_error_voxels" in row:
-        return "  hits %d, misses %d, extra %d, depth error max %.2e p99 %.2e voxel" % (
-            row["hits_both"], row["missed_hits"], row["extra_hits"],
-            row["depth_max_error_voxels"], row["depth_p99_error_voxels"])
+        return ("  hits %d, misses %d, extra %d, depth error max %.2e p99 %.2e voxel, "
+                "%d over 1e-3" % (row["hits_both"], row["missed_hits"], row["extra_hits"],
+                                  row["depth_max_error_voxels"], row["depth_p99_error_voxels"],
+                                  row["depth_outliers"]))
     if "extremum_max_error" in row:
         return "  disagreements %d, extremum error max %.2e mean %.2e of the range" % (
             row["hit_miss_disagreements"], row["extremum_max_error"], row["extremum_mean_error"])
