@@ -1,6 +1,8 @@
 """Image regression for every method: the Marschner-Lobb volume with the narrow-spike
 transfer function, 128 x 128, rendered by each method of ``hovr render`` and compared with a
-baseline PNG (Testing/Data/Baseline/MethodBaseline_<method>.png).
+baseline PNG (Testing/Data/Baseline/MethodBaseline_<method>.png). Isosurface methods draw
+the shaded isosurface 0.5 with the iso-opaque transfer function, projections the spike one;
+the reference is drawn in every blend mode (MethodBaseline_reference-<blend>.png).
 
 Tolerance: the PNGs are 8-bit, so a pixel may differ by 1/255 from rounding alone; llvmpipe
 results vary slightly between CPUs (ENVIRONMENT.md), so up to 0.5% of the pixels may differ
@@ -16,16 +18,34 @@ from vtkmodules.vtkIOImage import vtkPNGReader
 
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, ROOT, marschner_lobb_scene
+from hovrtesting import Checker, ROOT, marschner_lobb_scene, tf_path
 
 c = Checker()
 baselines = os.path.join(ROOT, "Testing", "Data", "Baseline")
 out_dir = os.path.join(os.environ.get("HOVR_BUILD", "."), "Testing", "Temporary")
 os.makedirs(out_dir, exist_ok=True)
-scene = marschner_lobb_scene((128, 128))
+composite = marschner_lobb_scene((128, 128))
+
+
+def blend_scene(blend):
+    if blend == "composite":
+        return composite
+    prop = composite.prop
+    if blend == "iso":
+        color, opacity, _ = hio.read_transfer_function(tf_path("iso-opaque"))
+        prop = hio.make_volume_property(color, opacity, 1.0)
+        prop.ShadeOn()
+        prop.GetIsoSurfaceValues().SetValue(0, 0.5)
+    return hm.Scene(composite.image, prop, composite.camera, composite.size, blend)
+
+
+runs = [(m, m.name, m.blend) for m in map(hm.get_method, sorted(hm.METHODS)) if m.blend]
+runs += [(hm.get_method("reference"), "reference" + ("" if b == "composite" else "-" + b), b)
+         for b in hm.BLEND_MODES]
 renderer = hm.Renderer()
-for method in sorted(hm.METHODS):
-    result = renderer.render(method, scene, 1.0)
+for method, name, blend in runs:
+    result = renderer.render(method, blend_scene(blend), 1.0)
+    method = name
     test_png = os.path.join(out_dir, "MethodBaseline_%s.png" % method)
     hio.rgba_to_png(result.image, test_png)
     baseline = os.path.join(baselines, "MethodBaseline_%s.png" % method)
