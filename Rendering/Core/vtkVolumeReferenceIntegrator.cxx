@@ -39,6 +39,15 @@ struct VolumeGrid
   double PhysicalToIndex[16]; // world point -> 0-based continuous grid index
 };
 
+// Where the ray o + t v enters a cell at t0, in the cell's local coordinates.
+void CellEntry(const double o[3], const double v[3], double t0, const int cell[3], double u0[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    u0[a] = o[a] + t0 * v[a] - cell[a];
+  }
+}
+
 class RayCaster
 {
 public:
@@ -161,10 +170,7 @@ public:
       // The interpolant stays within its corner range: only values inside can be crossed.
       const auto range = std::minmax_element(corner, corner + 8);
       double u0[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        u0[a] = o[a] + t0 * v[a] - cell[a];
-      }
+      CellEntry(o, v, t0, cell, u0);
       vtkTrilinearRayProfile profile;
       bool profileSet = false;
       double best = VTK_DOUBLE_MAX, bestValue = 0.0;
@@ -262,10 +268,7 @@ public:
         continue;
       }
       double u0[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        u0[a] = o[a] + t0 * v[a] - cell[a];
-      }
+      CellEntry(o, v, t0, cell, u0);
       vtkTrilinearRayProfile profile;
       profile.Set(corner, u0, v);
       double smin, smax;
@@ -316,10 +319,7 @@ public:
         continue; // The interpolant stays within the corner range: exactly empty.
       }
       double u0[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        u0[a] = o[a] + t0 * v[a] - cell[a];
-      }
+      CellEntry(o, v, t0, cell, u0);
       vtkTrilinearRayProfile profile;
       profile.Set(corner, u0, v);
       const double variation = length * profile.GetMaximumSlope(length);

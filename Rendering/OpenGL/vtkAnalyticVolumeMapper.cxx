@@ -36,16 +36,6 @@ vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper() = default;
 vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper() = default;
 
 //------------------------------------------------------------------------------
-void vtkAnalyticVolumeMapper::WarnOnce(const char* reason)
-{
-  if (this->LastWarning != reason)
-  {
-    vtkWarningMacro(<< reason << "; drawing with VTK's stock shader.");
-    this->LastWarning = reason;
-  }
-}
-
-//------------------------------------------------------------------------------
 const char* vtkAnalyticVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
   vtkDataArray* scalars,
   int cellFlag)
@@ -79,35 +69,25 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   {
     return DrawStock;
   }
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  int cellFlag = 0;
-  vtkDataArray* scalars = input
-    ? vtkAbstractMapper::GetScalars(
-        input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
-    : nullptr;
-  if (!input || !scalars)
+  int dims[3], cellFlag;
+  FramePlan plan = DrawWithExtension;
+  vtkDataArray* scalars = this->GetFrameScalars(dims, cellFlag, plan);
+  if (!scalars)
   {
-    return DrawStock; // VTK reports the missing input or scalars itself.
-  }
-  int dims[3];
-  input->GetDimensions(dims);
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
-  {
-    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
-      << dims[0] << " x " << dims[1] << " x " << dims[2] << "; not drawing.");
-    return DrawNothing;
+    return plan;
   }
   if (!IsAnalyticBlend(this->BlendMode))
   {
-    this->WarnOnce("analytic rendering applies to isosurface, maximum and minimum intensity "
-                   "blending");
+    this->WarnFallbackOnce(
+      "analytic rendering applies to isosurface, maximum and minimum intensity "
+      "blending");
     return DrawStock;
   }
   if (this->Method == ANALYTIC)
   {
     if (const char* reason = this->GetStockFallbackReason(vol, scalars, cellFlag))
     {
-      this->WarnOnce(reason);
+      this->WarnFallbackOnce(reason);
       return DrawStock;
     }
     GLint max3D = 0;
@@ -117,12 +97,13 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     }
     if (max3D > 0 && (dims[0] > max3D || dims[1] > max3D || dims[2] > max3D))
     {
-      this->WarnOnce("the volume exceeds the largest 3D texture, and analytic rendering needs "
-                     "it in one block");
+      this->WarnFallbackOnce(
+        "the volume exceeds the largest 3D texture, and analytic rendering needs "
+        "it in one block");
       return DrawStock;
     }
   }
-  this->LastWarning.clear();
+  this->ClearFallbackWarning();
 
   vtkVolumeProperty* property = vol->GetProperty();
   double scale, shift;

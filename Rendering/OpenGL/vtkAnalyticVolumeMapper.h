@@ -92,8 +92,6 @@ protected:
 
   // Why the analytic shader cannot draw this frame, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars, int cellFlag);
-  // Warn once per distinct reason.
-  void WarnOnce(const char* reason);
 
   int Method = ANALYTIC;
   int OutputQuantity = OUTPUT_COLOR;
@@ -104,7 +102,6 @@ protected:
   std::vector<float> IsoRaw;
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
-  std::string LastWarning;
 
 private:
   vtkAnalyticVolumeMapper(const vtkAnalyticVolumeMapper&) = delete;

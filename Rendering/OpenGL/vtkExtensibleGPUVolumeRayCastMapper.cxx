@@ -2,6 +2,7 @@
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
 #include "vtkDataArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkObjectFactory.h"
@@ -181,5 +182,42 @@ void vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(vtkDataArray* s
       scale = hi > lo ? hi - lo : 1.0;
       shift = lo;
     }
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkExtensibleGPUVolumeRayCastMapper::GetFrameScalars(int dims[3],
+  int& cellFlag,
+  FramePlan& plan)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  cellFlag = 0;
+  vtkDataArray* scalars = input
+    ? vtkAbstractMapper::GetScalars(
+        input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+    : nullptr;
+  if (!input || !scalars)
+  {
+    plan = DrawStock; // VTK reports the missing input or scalars itself.
+    return nullptr;
+  }
+  input->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
+      << dims[0] << " x " << dims[1] << " x " << dims[2] << "; not drawing.");
+    plan = DrawNothing;
+    return nullptr;
+  }
+  return scalars;
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::WarnFallbackOnce(const char* reason)
+{
+  if (this->LastFallbackWarning != reason)
+  {
+    vtkWarningMacro(<< reason << "; drawing with VTK's stock shader.");
+    this->LastFallbackWarning = reason;
   }
 }

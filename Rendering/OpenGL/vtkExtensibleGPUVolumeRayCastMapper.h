@@ -105,6 +105,23 @@ protected:
   virtual void ReleaseExtensionResources(vtkWindow* window) { (void)window; }
 
   /**
+   * The input's point scalars for this frame, with the grid dimensions and whether they are
+   * cell scalars. Returns nullptr and sets plan when the frame cannot use the extension:
+   * DrawStock without input or scalars (VTK reports that itself), DrawNothing after an error
+   * when the volume has fewer than 2 points along an axis (no cell to render).
+   */
+  vtkDataArray* GetFrameScalars(int dims[3], int& cellFlag, FramePlan& plan);
+
+  ///@{
+  /**
+   * Warn that this frame falls back to VTK's stock shader, once per distinct reason; clear
+   * when the extension draws again.
+   */
+  void WarnFallbackOnce(const char* reason);
+  void ClearFallbackWarning() { this->LastFallbackWarning.clear(); }
+  ///@}
+
+  /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
    */
   void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
@@ -114,6 +131,7 @@ protected:
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
   std::string FragmentShaderSource;
+  std::string LastFallbackWarning;
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

@@ -172,34 +172,19 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
                                                                           << "; not drawing.");
     return DrawNothing;
   }
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  int cellFlag = 0;
-  vtkDataArray* scalars = input
-    ? vtkAbstractMapper::GetScalars(
-        input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
-    : nullptr;
-  if (!input || !scalars)
+  int dims[3], cellFlag;
+  FramePlan plan = DrawWithExtension;
+  vtkDataArray* scalars = this->GetFrameScalars(dims, cellFlag, plan);
+  if (!scalars)
   {
-    return DrawStock; // VTK reports the missing input or scalars itself.
-  }
-  int dims[3];
-  input->GetDimensions(dims);
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
-  {
-    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
-      << dims[0] << " x " << dims[1] << " x " << dims[2] << "; not drawing.");
-    return DrawNothing;
+    return plan;
   }
   if (const char* reason = this->GetStockFallbackReason(vol, scalars))
   {
-    if (this->LastWarning != reason)
-    {
-      vtkWarningMacro(<< reason << "; drawing with VTK's stock compositing.");
-      this->LastWarning = reason;
-    }
+    this->WarnFallbackOnce(reason);
     return DrawStock;
   }
-  this->LastWarning.clear();
+  this->ClearFallbackWarning();
 
   double range[2];
   scalars->GetFiniteRange(range, 0);
@@ -231,7 +216,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
       // 1.5 / step entries per narrowest opacity feature, step in voxels). Features narrower
       // than an entry spacing keep their integral through the table's prefilter.
       double spacing[3];
-      input->GetSpacing(spacing);
+      vtkImageData::SafeDownCast(this->GetInput())->GetSpacing(spacing);
       const double minimumSpacing =
         std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
       const double stepInVoxels =

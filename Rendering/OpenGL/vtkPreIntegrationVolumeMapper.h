@@ -230,7 +230,6 @@ protected:
   int UploadedPrecision = -1;
   vtkIdType TableTextureMemorySize = 0;
   float RawToTable[2] = { 1.0f, 0.0f };
-  std::string LastWarning;
 
 private:
   vtkPreIntegrationVolumeMapper(const vtkPreIntegrationVolumeMapper&) = delete;

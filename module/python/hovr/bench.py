@@ -82,28 +82,25 @@ def _expand(value, base):
     return value if os.path.isabs(value) else os.path.normpath(os.path.join(base, value))
 
 
+# Generated test volumes by --input prefix: the source class and its default size.
+GENERATED_VOLUMES = {"marschner-lobb": ("vtkMarschnerLobbSource", 41),
+                     "thin-features": ("vtkThinFeatureSource", 64)}
+
+
 def load_volume(spec, base=None):
     """A volume from a dataset entry or an --input string: a path, ``marschner-lobb[:N]`` or
     ``thin-features[:N]`` (vtkThinFeatureSource)."""
     source = spec["input"]
-    if source.startswith("marschner-lobb"):
-        from . import hovrFiltersSources as sources
-        size = int(source.split(":")[1]) if ":" in source else 41
-        if size < 2:
-            raise HovrError("marschner-lobb needs at least 2 points per axis")
-        generator = sources.vtkMarschnerLobbSource()
-        generator.SetDimensions(size, size, size)
-        generator.Update()
-        return generator.GetOutput()
-    if source.startswith("thin-features"):
-        from . import hovrFiltersSources as sources
-        size = int(source.split(":")[1]) if ":" in source else 64
-        if size < 2:
-            raise HovrError("thin-features needs at least 2 points per axis")
-        generator = sources.vtkThinFeatureSource()
-        generator.SetDimensions(size, size, size)
-        generator.Update()
-        return generator.GetOutput()
+    for prefix, (class_name, default_size) in GENERATED_VOLUMES.items():
+        if source.startswith(prefix):
+            from . import hovrFiltersSources as sources
+            size = int(source.split(":")[1]) if ":" in source else default_size
+            if size < 2:
+                raise HovrError("%s needs at least 2 points per axis" % prefix)
+            generator = getattr(sources, class_name)()
+            generator.SetDimensions(size, size, size)
+            generator.Update()
+            return generator.GetOutput()
     path = _expand(source, base) if base else source
     return hio.read_volume(path, spec.get("dims"), spec.get("type"), spec.get("spacing"))
 
