@@ -12,7 +12,8 @@
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
-#include "hovrAnalytic.h" // the GLSL of the analytic ray caster
+#include "hovrAnalytic.h"       // the GLSL of the analytic ray caster
+#include "hovrAnalyticCommon.h" // the GLSL both modes share
 
 #include <cmath>
 #include <sstream>
@@ -172,21 +173,14 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
       Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "", Self::ReplaceTag) &&
       Self::ReplaceShaderTag(fragmentShader,
         "//VTK::ComputeRayDirection::Dec",
-        switches.str() + hovrAnalytic,
+        switches.str() + hovrAnalyticCommon + hovrAnalytic,
         Self::BeforeTag);
   }
   else
   {
     // VTK's own sampling, observed: where its isosurface first becomes visible, or its
     // sampled extremum at the end.
-    const std::string declarations = switches.str() +
-      "vec4 hovr_output = vec4(0.0);\n"
-      "uniform vec2 hovr_rawToData;\n"
-      "vec3 hovr_textureToIndex(vec3 tex)\n"
-      "{\n"
-      "  vec3 last = vec3(textureSize(in_volume[0], 0) - ivec3(1));\n"
-      "  return (tex - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) * last;\n"
-      "}\n";
+    const std::string declarations = switches.str() + hovrAnalyticCommon;
     ok = Self::ReplaceShaderTag(
       fragmentShader, "//VTK::ComputeRayDirection::Dec", declarations, Self::BeforeTag);
     if (iso)

@@ -21,26 +21,16 @@
 //   HOVR_OUTPUT     0 colour, 1 hit position (grid index, w = 1 on a hit), 2 extremum (data
 //                   units in x, w = 1 where the ray meets the volume)
 
-uniform vec2 hovr_rawToData; // data value = raw texture value * x + y
+// hovr_rawToData, hovr_output and hovr_textureToIndex: hovrAnalyticCommon.glsl.
 #if HOVR_BLEND == 5
 uniform float hovr_isoRaw[HOVR_ISO_COUNT]; // isovalues in raw texture units
 #else
 uniform float hovr_rawExtreme; // the data's largest (MIP) or smallest (MinIP) raw value
 #endif
 
-// What HOVR_OUTPUT 1 and 2 write instead of the colour.
-vec4 hovr_output = vec4(0.0);
-
 // Corner values of the current cell: (v000, v100, v010, v110) and the same at k + 1.
 vec4 hovr_lower;
 vec4 hovr_upper;
-
-// Continuous grid index (point i at i) of a texture coordinate.
-vec3 hovr_textureToIndex(vec3 tex)
-{
-  vec3 last = vec3(textureSize(in_volume[0], 0) - ivec3(1));
-  return (tex - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) * last;
-}
 
 void hovr_fetchCorners(ivec3 c)
 {
