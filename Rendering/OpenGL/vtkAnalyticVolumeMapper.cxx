@@ -8,6 +8,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
@@ -15,7 +16,9 @@
 #include "hovrAnalytic.h"       // the GLSL of the analytic ray caster
 #include "hovrAnalyticCommon.h" // the GLSL both modes share
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 vtkStandardNewMacro(vtkAnalyticVolumeMapper);
@@ -28,13 +31,144 @@ bool IsAnalyticBlend(int blend)
     blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND ||
     blend == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND;
 }
+
+// Per block of size^3 cells, (min, max) of the raw texture values of its points, the points
+// on its far faces included (they are corners of its cells); NaN ignored, so a NaN-only block
+// gets an empty range (+inf, -inf). Widened by a few float roundings, because the texture's
+// own conversion of integers to normalised floats may round the other way.
+void ComputeBlockRanges(vtkDataArray* scalars,
+  const int dims[3],
+  int size,
+  double scale,
+  double shift,
+  const int blocks[3],
+  std::vector<float>& ranges)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> lo(static_cast<size_t>(blocks[0]) * blocks[1] * blocks[2], inf);
+  std::vector<double> hi(lo.size(), -inf);
+  for (int k = 0; k < dims[2]; ++k)
+  {
+    // A point on a block boundary belongs to the blocks on both sides.
+    const int bk0 = std::min(k / size, blocks[2] - 1), bk1 = std::max((k - 1) / size, 0);
+    for (int j = 0; j < dims[1]; ++j)
+    {
+      const int bj0 = std::min(j / size, blocks[1] - 1), bj1 = std::max((j - 1) / size, 0);
+      for (int i = 0; i < dims[0]; ++i)
+      {
+        const double value = scalars->GetComponent(
+          i + static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k), 0);
+        if (std::isnan(value))
+        {
+          continue;
+        }
+        const double raw = (value - shift) / scale;
+        const int bi0 = std::min(i / size, blocks[0] - 1), bi1 = std::max((i - 1) / size, 0);
+        for (int bk = std::min(bk0, bk1); bk <= std::max(bk0, bk1); ++bk)
+        {
+          for (int bj = std::min(bj0, bj1); bj <= std::max(bj0, bj1); ++bj)
+          {
+            for (int bi = std::min(bi0, bi1); bi <= std::max(bi0, bi1); ++bi)
+            {
+              const size_t b =
+                bi + static_cast<size_t>(blocks[0]) * (bj + static_cast<size_t>(blocks[1]) * bk);
+              lo[b] = std::min(lo[b], raw);
+              hi[b] = std::max(hi[b], raw);
+            }
+          }
+        }
+      }
+    }
+  }
+  ranges.resize(2 * lo.size());
+  for (size_t b = 0; b < lo.size(); ++b)
+  {
+    const double margin = 1e-6 * std::max(std::abs(lo[b]), std::abs(hi[b]));
+    ranges[2 * b] = static_cast<float>(std::isfinite(lo[b]) ? lo[b] - margin : lo[b]);
+    ranges[2 * b + 1] = static_cast<float>(std::isfinite(hi[b]) ? hi[b] + margin : hi[b]);
+  }
+}
 }
 
 //------------------------------------------------------------------------------
-vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper() = default;
+vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
+  : BlockTexture(vtkTextureObject::New())
+{
+}
 
 //------------------------------------------------------------------------------
-vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper() = default;
+vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
+{
+  this->BlockTexture->Delete();
+}
+
+//------------------------------------------------------------------------------
+bool vtkAnalyticVolumeMapper::UpdateBlockRanges(vtkRenderer* ren,
+  vtkDataArray* scalars,
+  const int dims[3],
+  double scale,
+  double shift)
+{
+  if (this->BlockScalars == scalars && this->BlockBuiltSize == this->BlockSize &&
+    this->BlockBuildTime > scalars->GetMTime() && this->BlockTexture->GetHandle())
+  {
+    return true;
+  }
+  int blocks[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    blocks[a] = (dims[a] - 2) / this->BlockSize + 1; // cells dims-1, rounded up
+  }
+  std::vector<float> ranges;
+  ComputeBlockRanges(scalars, dims, this->BlockSize, scale, shift, blocks, ranges);
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  this->BlockTexture->ReleaseGraphicsResources(context);
+  this->BlockTexture->SetContext(context);
+  this->BlockTexture->SetInternalFormat(GL_RG32F);
+  this->BlockTexture->SetFormat(GL_RG);
+  this->BlockTexture->SetDataType(GL_FLOAT);
+  if (!this->BlockTexture->Create3DFromRaw(
+        blocks[0], blocks[1], blocks[2], 2, VTK_FLOAT, ranges.data()))
+  {
+    vtkErrorMacro("Could not create the " << blocks[0] << " x " << blocks[1] << " x " << blocks[2]
+                                          << " block-range texture.");
+    this->BlockTextureMemorySize = 0;
+    return false;
+  }
+  this->BlockTexture->SetMinificationFilter(vtkTextureObject::Nearest);
+  this->BlockTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  this->BlockTextureMemorySize = static_cast<vtkIdType>(ranges.size()) * sizeof(float);
+  this->BlockScalars = scalars;
+  this->BlockBuiltSize = this->BlockSize;
+  this->BlockBuildTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::ActivateExtensionTextures()
+{
+  if (this->Method == ANALYTIC && this->BlockSize > 0)
+  {
+    this->BlockTexture->Activate();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::DeactivateExtensionTextures()
+{
+  if (this->Method == ANALYTIC && this->BlockSize > 0)
+  {
+    this->BlockTexture->Deactivate();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
+{
+  this->BlockTexture->ReleaseGraphicsResources(window);
+  this->BlockScalars = nullptr;
+  this->BlockTextureMemorySize = 0;
+}
 
 //------------------------------------------------------------------------------
 const char* vtkAnalyticVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
@@ -139,9 +273,19 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     this->RawExtreme = static_cast<float>((extreme - shift) / scale);
   }
 
+  if (this->Method == ANALYTIC && this->BlockSize > 0 &&
+    !this->UpdateBlockRanges(ren, scalars, dims, scale, shift))
+  {
+    return DrawNothing;
+  }
+  if (this->Method != ANALYTIC || this->BlockSize == 0)
+  {
+    this->BlockTextureMemorySize = 0;
+  }
+
   std::ostringstream key;
-  key << this->Method << " " << this->BlendMode << " " << this->IsoRaw.size() << " "
-      << property->GetShade(0) << " " << this->OutputQuantity;
+  key << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
+      << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity;
   if (key.str() != this->ShaderKey)
   {
     this->ShaderKey = key.str();
@@ -161,7 +305,8 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   switches << "#define HOVR_BLEND " << this->BlendMode << "\n"
            << "#define HOVR_ISO_COUNT " << std::max<size_t>(this->IsoRaw.size(), 1) << "\n"
            << "#define HOVR_SHADE " << (vol->GetProperty()->GetShade(0) ? 1 : 0) << "\n"
-           << "#define HOVR_OUTPUT " << this->OutputQuantity << "\n";
+           << "#define HOVR_OUTPUT " << this->OutputQuantity << "\n"
+           << "#define HOVR_BLOCK " << this->BlockSize << "\n";
   bool ok = true;
   if (this->Method == ANALYTIC)
   {
@@ -229,6 +374,10 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   {
     return;
   }
+  if (this->BlockSize > 0)
+  {
+    program->SetUniformi("hovr_blockRange", this->BlockTexture->GetTextureUnit());
+  }
   if (this->BlendMode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
     program->SetUniform1fv(
@@ -246,4 +395,6 @@ void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "OutputQuantity: " << this->OutputQuantity << "\n";
+  os << indent << "BlockSize: " << this->BlockSize << "\n";
+  os << indent << "BlockTextureMemorySize: " << this->BlockTextureMemorySize << "\n";
 }

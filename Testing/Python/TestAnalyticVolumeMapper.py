@@ -97,6 +97,36 @@ c.check(stock["missed_hits"] > 20 and analytic["missed_hits"] * 10 < stock["miss
         "thin features: iso-stock at 1/4 voxel misses surfaces the analytic method finds")
 
 
+# Block skipping (BlockSize) jumps over blocks that cannot matter: the same images as
+# reading every cell, for isosurfaces and projections, and a texture of the expected size.
+class Blocked(hm.AnalyticMethod):
+    def __init__(self, blend, size):
+        super().__init__("%s-blocks%d" % (blend, size), "", blend, True)
+        self.size = size
+
+    def make_mapper(self):
+        mapper = super().make_mapper()
+        mapper.SetBlockSize(self.size)
+        return mapper
+
+
+for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
+                                        ("thin48", thin, "mip", []),
+                                        ("ml41", ml, "iso", [0.3, 0.7]),
+                                        ("ml41", ml, "minip", [])):
+    scene = scene_for(volume, blend, isovalues)
+    images = [renderer.render(Blocked(blend, size), scene, 1.0).image for size in (0, 3, 4)]
+    arrays = [vtk_to_numpy(i.GetPointData().GetScalars()) for i in images]
+    extra = [vtk_to_numpy(i.GetPointData().GetArray(hm.BLEND_ARRAYS[blend])) for i in images]
+    same = all(numpy.array_equal(arrays[0], a) for a in arrays[1:]) and all(
+        numpy.array_equal(extra[0], e, equal_nan=True) for e in extra[1:])
+    c.check(same, "%s %s: block sizes 0, 3 and 4 give the same image and %s" % (
+        label, blend, hm.BLEND_ARRAYS[blend]))
+mapper = hovr.vtkAnalyticVolumeMapper()
+c.check(mapper.GetBlockSize() == 4 and mapper.GetBlockTextureMemorySize() == 0,
+        "block size 4 by default, no texture before the first frame")
+
+
 # Bad input, through the mapper itself.
 class Messages:
     def __init__(self, obj):

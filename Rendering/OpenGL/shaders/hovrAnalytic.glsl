@@ -20,8 +20,15 @@
 //   HOVR_SHADE      1 when the volume property shades
 //   HOVR_OUTPUT     0 colour, 1 hit position (grid index, w = 1 on a hit), 2 extremum (data
 //                   units in x, w = 1 where the ray meets the volume)
+//   HOVR_BLOCK      cells per block edge of hovr_blockRange (0: no block skipping)
 
 // hovr_rawToData, hovr_output and hovr_textureToIndex: hovrAnalyticCommon.glsl.
+#if HOVR_BLOCK
+// Per block of HOVR_BLOCK^3 cells: the smallest and largest raw value of its points (the
+// interpolant stays between them), for skipping blocks that cannot hold an isovalue or beat
+// the current extremum. NaN-only blocks hold an empty range (min > max).
+uniform sampler3D hovr_blockRange;
+#endif
 #if HOVR_BLEND == 5
 uniform float hovr_isoRaw[HOVR_ISO_COUNT]; // isovalues in raw texture units
 #else
@@ -200,6 +207,39 @@ void hovr_analyticRay()
     float d = min(min(dNext.x, dNext.y), dNext.z);
     bvec3 crossed = lessThanEqual(dNext, vec3(d));
     ivec3 cell = clamp(iNext - max(iStep, ivec3(0)), ivec3(0), lastCell);
+#if HOVR_BLOCK
+    ivec3 block = cell / HOVR_BLOCK;
+    vec2 blockRange = texelFetch(hovr_blockRange, block, 0).rg;
+#if HOVR_BLEND == 5
+    bool skip = true;
+    for (int i = 0; i < HOVR_ISO_COUNT; ++i)
+    {
+      skip = skip && !(hovr_isoRaw[i] >= blockRange.x && hovr_isoRaw[i] <= blockRange.y);
+    }
+#elif HOVR_BLEND == 1
+    bool skip = found ? blockRange.y <= extreme : blockRange.x > blockRange.y;
+#else
+    bool skip = found ? blockRange.x >= extreme : blockRange.x > blockRange.y;
+#endif
+    if (skip)
+    {
+      // Jump to where the ray leaves the block, through its far planes (integers, like every
+      // plane of the traversal), and go on with the planes beyond that point.
+      ivec3 far = min(block * HOVR_BLOCK + max(iStep, ivec3(0)) * HOVR_BLOCK, dims - ivec3(1));
+      vec3 dFar = mix((vec3(far) - entry) * inv, vec3(1e30), still);
+      float dOut = min(min(dFar.x, dFar.y), dFar.z);
+      bvec3 exitAxes = lessThanEqual(dFar, vec3(dOut));
+      vec3 farFace = mix(vec3(lessThanEqual(far, ivec3(0))), vec3(greaterThanEqual(far, dims - ivec3(1))),
+        vec3(greaterThan(iStep, ivec3(0))));
+      if (dOut >= span || dot(vec3(exitAxes), farFace) > 0.0)
+      {
+        break;
+      }
+      pe = mix(entry + dOut * dir, vec3(far), exitAxes);
+      iNext = ivec3(mix(floor(pe), ceil(pe), lessThan(dir, vec3(0.0)))) + iStep;
+      continue;
+    }
+#endif
     // Leaving through a face of the box, even one rounding short of the exit distance.
     vec3 face = mix(vec3(lessThanEqual(iNext, ivec3(0))), vec3(greaterThan(iNext, lastCell)),
       vec3(greaterThan(iStep, ivec3(0))));

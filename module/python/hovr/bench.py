@@ -58,7 +58,7 @@ from .io import HovrError
 CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
               "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
               "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
-              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes",
+              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
               "depth_outliers", "extremum_max_error", "extremum_mean_error"]

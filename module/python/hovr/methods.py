@@ -152,6 +152,9 @@ class AnalyticMethod(Method):
         mapper.SetAutoAdjustSampleDistances(0)
         return mapper
 
+    def statistics(self, mapper):
+        return {"block_gpu_bytes": mapper.GetBlockTextureMemorySize()} if self.analytic else {}
+
 
 class ReferenceMethod(Method):
     kind = "cpu"
