@@ -1,9 +1,11 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationVolumeRepresentation.h"
 
+#include "vtkAnalyticVolumeMapper.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkRectilinearGrid.h"
 
@@ -23,6 +25,8 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   this->Iterations = mapper->GetIterations();
   this->TablePrefilter = mapper->GetTablePrefilter();
   this->VolumeMapper = mapper;
+  this->PreIntegrationMapper = mapper;
+  this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
 }
 
 //------------------------------------------------------------------------------
@@ -66,21 +70,37 @@ double vtkPreIntegrationVolumeRepresentation::ComputeAutomaticSampleDistance()
 //------------------------------------------------------------------------------
 void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
 {
-  // The superclass selects the array, the scalar mode and the cropping planes and sets the
-  // mapper on the actor; where it needs vtkSmartVolumeMapper or vtkMultiBlockVolumeMapper it
-  // down-casts, so for this mapper those settings are skipped rather than misapplied.
+  // The mapper the Integration value chooses, in place before the superclass connects the
+  // input, selects the array, the scalar mode and the cropping planes and sets the mapper on
+  // the actor; where it needs vtkSmartVolumeMapper or vtkMultiBlockVolumeMapper it
+  // down-casts, so for these mappers those settings are skipped rather than misapplied.
+  const bool analytic = this->Integration >= ANALYTIC_ISOSURFACE;
+  vtkVolumeMapper* chosen = analytic ? this->AnalyticMapper : this->PreIntegrationMapper;
+  if (this->VolumeMapper != chosen)
+  {
+    chosen->SetInputConnection(this->VolumeMapper->GetInputConnection(0, 0));
+    this->VolumeMapper = chosen;
+  }
+  this->VolumeMapper->SetCropping(this->Cropping != 0);
+  this->VolumeMapper->SetBlendMode(this->BlendMode);
   this->Superclass::UpdateMapperParameters();
 
-  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
-  if (!mapper)
+  if (auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
-    return;
+    mapper->SetIntegration(this->Integration);
+    mapper->SetTableSize(this->TableSize);
+    mapper->SetTablePrecision(this->TablePrecision);
+    mapper->SetIterations(this->Iterations);
+    mapper->SetTablePrefilter(this->TablePrefilter);
   }
-  mapper->SetIntegration(this->Integration);
-  mapper->SetTableSize(this->TableSize);
-  mapper->SetTablePrecision(this->TablePrecision);
-  mapper->SetIterations(this->Iterations);
-  mapper->SetTablePrefilter(this->TablePrefilter);
+  else if (auto* analyticMapper = vtkAnalyticVolumeMapper::SafeDownCast(this->VolumeMapper))
+  {
+    analyticMapper->SetAutoAdjustSampleDistances(0);
+    analyticMapper->SetBlendMode(this->Integration == ANALYTIC_ISOSURFACE
+        ? vtkVolumeMapper::ISOSURFACE_BLEND
+        : (this->Integration == ANALYTIC_MIP ? vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
+                                             : vtkVolumeMapper::MINIMUM_INTENSITY_BLEND));
+  }
 
   double distance = this->SampleDistance;
   if (!(distance > 0.0))
@@ -89,10 +109,31 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   }
   // Without input (a process that only draws the outline) the mapper draws nothing, so its
   // sample distance is left alone.
-  if (distance > 0.0 && std::isfinite(distance))
+  auto* gpuMapper = vtkOpenGLGPUVolumeRayCastMapper::SafeDownCast(this->VolumeMapper);
+  if (gpuMapper && distance > 0.0 && std::isfinite(distance))
   {
-    mapper->SetSampleDistance(distance);
+    gpuMapper->SetSampleDistance(distance);
     this->EffectiveSampleDistance = distance;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeRepresentation::SetBlendMode(int blend)
+{
+  if (this->BlendMode != blend)
+  {
+    this->BlendMode = blend;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeRepresentation::SetCropping(int crop)
+{
+  if (this->Cropping != crop)
+  {
+    this->Cropping = crop;
+    this->Modified();
   }
 }
 
@@ -101,6 +142,8 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integration: " << this->Integration << "\n";
+  os << indent << "BlendMode: " << this->BlendMode << "\n";
+  os << indent << "Cropping: " << this->Cropping << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";

@@ -14,6 +14,11 @@
  * warns); the mapper itself draws rectilinear grids, multi-component data, shading, blend
  * modes other than composite and 2D transfer functions with VTK's stock path.
  *
+ * Integration values beyond the pre-integration modes choose hovr's vtkAnalyticVolumeMapper
+ * instead (ANALYTIC_ISOSURFACE, ANALYTIC_MIP, ANALYTIC_MINIP): the exact first hit of the
+ * volume property's isosurface values (ParaView's "Isosurfaces" of the volume representation)
+ * or the exact maximum or minimum along each ray; the blend mode follows the choice.
+ *
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
  */
@@ -22,6 +27,9 @@
 
 #include "hovrParaViewRepresentationModule.h" // For export macro
 #include "vtkImageVolumeRepresentation.h"
+#include "vtkSmartPointer.h" // For ivars
+
+class vtkVolumeMapper;
 
 class HOVRPARAVIEWREPRESENTATION_EXPORT vtkPreIntegrationVolumeRepresentation
   : public vtkImageVolumeRepresentation
@@ -31,11 +39,22 @@ public:
   vtkTypeMacro(vtkPreIntegrationVolumeRepresentation, vtkImageVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  /**
+   * Integration values after vtkPreIntegrationVolumeMapper::IntegrationModes (0-2): the
+   * analytic methods of vtkAnalyticVolumeMapper.
+   */
+  enum AnalyticModes
+  {
+    ANALYTIC_ISOSURFACE = 3,
+    ANALYTIC_MIP = 4,
+    ANALYTIC_MINIP = 5
+  };
+
   ///@{
   /**
    * How samples are composited: a value of vtkPreIntegrationVolumeMapper::IntegrationModes,
-   * passed on unchanged (the mapper validates it, so a new mode needs no change here).
-   * Initial value is the mapper's, FIRST_ORDER.
+   * passed on unchanged (the mapper validates it), or one of AnalyticModes, which draw with
+   * vtkAnalyticVolumeMapper. Initial value is the pre-integration mapper's, FIRST_ORDER.
    */
   vtkSetMacro(Integration, int);
   vtkGetMacro(Integration, int);
@@ -89,6 +108,16 @@ public:
   vtkGetMacro(TablePrefilter, bool);
   ///@}
 
+  ///@{
+  /**
+   * Blend mode and cropping flag, kept here and given to whichever mapper draws (the
+   * superclass sets them on its current mapper only). The analytic modes override the blend
+   * mode with theirs. Initial values: composite, off.
+   */
+  void SetBlendMode(int blend);
+  void SetCropping(int crop);
+  ///@}
+
   /**
    * The sample distance the mapper was last given: SampleDistance, or the automatic value
    * derived from the input when SampleDistance is not positive. 0 before the first render.
@@ -104,8 +133,14 @@ protected:
   // Half the smallest grid spacing of the mapper's input, or 0 when there is no grid.
   double ComputeAutomaticSampleDistance();
 
+  // The two mappers; VolumeMapper points to the one the Integration value chooses.
+  vtkSmartPointer<vtkVolumeMapper> PreIntegrationMapper;
+  vtkSmartPointer<vtkVolumeMapper> AnalyticMapper;
+
   // The mapper's settings start from the mapper's own defaults (set in the constructor).
   int Integration;
+  int BlendMode = 0;
+  int Cropping = 0;
   double SampleDistance = 0.0;
   int TableSize;
   int TablePrecision;

@@ -196,7 +196,8 @@ def main():
                   "HovrHalfFloatTable is gone (replaced by HovrTablePrecision)")
     integrations = list(display.GetProperty("HovrIntegration").Available)
     checker.check(integrations == ["Stock", "First-order pre-integration",
-                                   "Second-order pre-integration"],
+                                   "Second-order pre-integration", "Analytic isosurface",
+                                   "Analytic MIP", "Analytic MinIP"],
                   "Integration choices (%s)" % integrations)
     precisions = list(display.GetProperty("HovrTablePrecision").Available)
     checker.check(precisions == ["Automatic", "8-bit", "Half float", "Float"],
@@ -360,9 +361,40 @@ def main():
                   "second-order is closer to the fine-step reference than Stock: RMS %g < %g"
                   % (second_order_error, stock_error))
 
+    # Analytic isosurface: the exact first hit of the Volume representation's isosurface
+    # values, drawn by vtkAnalyticVolumeMapper, which the representation swaps in; then MIP,
+    # and back to pre-integration with the user's blend mode.
+    display.HovrSampleDistance = GRID_SPACING
+    display.IsosurfaceValues = [0.5]
+    display.Shade = 1
+    display.HovrIntegration = "Analytic isosurface"
+    analytic = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-analytic.png"))
+    compare_with_baseline(checker, analytic,
+                          os.path.join(os.path.dirname(args.baseline),
+                                       "TestHovrPlugin-analytic.png"), "analytic isosurface")
+    if drawing_mapper_here:
+        analytic_mapper = representation.GetActor().GetMapper()
+        checker.check(analytic_mapper.GetClassName() == "vtkAnalyticVolumeMapper" and
+                      mapper_setting(analytic_mapper, "BlendMode") == 5 and
+                      mapper_setting(analytic_mapper, "ExtensionFrameCount") > 0,
+                      "Analytic isosurface draws with vtkAnalyticVolumeMapper, isosurface blend")
+    display.HovrIntegration = "Analytic MIP"
+    mip = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-mip.png"))
+    checker.check(image_difference(mip, analytic) > MIN_STOCK_DIFFERENCE,
+                  "Analytic MIP draws another image than the isosurface")
+    if drawing_mapper_here:
+        checker.check(mapper_setting(representation.GetActor().GetMapper(), "BlendMode") == 1,
+                      "Analytic MIP sets maximum intensity blending")
+    display.Shade = 0
+
     display.HovrIntegration = "First-order pre-integration"
     display.HovrSampleDistance = 0.0
     Render(view)
+    if drawing_mapper_here:
+        back = representation.GetActor().GetMapper()
+        checker.check(back.GetClassName() == "vtkPreIntegrationVolumeMapper" and
+                      mapper_setting(back, "BlendMode") == 0,
+                      "back to first order: the pre-integration mapper, composite blending")
     if drawing_mapper_here:
         checker.check(abs(mapper.GetSampleDistance() - 0.5 * GRID_SPACING) < 1e-6,
                       "Sample Distance 0 becomes half the grid spacing (%g)"
