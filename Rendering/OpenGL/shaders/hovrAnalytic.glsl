@@ -154,7 +154,7 @@ void hovr_analyticRay()
   ivec3 dims = textureSize(in_volume[0], 0);
   ivec3 lastCell = dims - ivec3(2);
   vec3 last = vec3(dims - ivec3(1));
-  vec3 start = hovr_textureToIndex(ip_textureCoords.xyz);
+  vec3 start = hovr_textureToIndex(hovr_windowToTexture(0.0)); // the near plane
   vec3 ray = hovr_textureToIndex(g_rayTermination) - start;
   float len = length(ray);
   if (!(len > 0.0))
