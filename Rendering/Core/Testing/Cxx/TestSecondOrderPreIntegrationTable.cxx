@@ -1231,38 +1231,8 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
     vtkNew<vtkSecondOrderPreIntegrationTable> table;
     table->SetTableSize(8);
     table->SetIterations(8);
-    check(!table->Update(), "Update without transfer functions fails");
-    check(messages.TakeError("colour transfer function"), "error for a missing colour function");
-    table->GetSampler()->SetColor(tf.Color);
-    check(!table->Update(), "Update without scalar opacity fails");
-    check(messages.TakeError("scalar opacity function"), "error for a missing opacity function");
-    table->SetVolumeProperty(tf.Property);
-    for (double length : { 0.0, -1.0, std::nan("") })
-    {
-      table->SetSegmentLength(length);
-      check(!table->Update(), "Update with segment length " + std::to_string(length) + " fails");
-      check(
-        messages.TakeError("segment length"), "error for segment length " + std::to_string(length));
-    }
-    table->SetSegmentLength(2.0);
-    for (double upper : { 5.0, 4.0 })
-    {
-      table->SetScalarRange(5.0, upper);
-      check(!table->Update(), "Update with scalar range [5, " + std::to_string(upper) + "] fails");
-      check(messages.TakeError("scalar range"), "error for an empty scalar range");
-    }
-    table->SetScalarRange(0.0, 1.0);
-    for (double u : { 0.0, -2.0 })
-    {
-      table->GetSampler()->SetScalarOpacityUnitDistance(u);
-      check(!table->Update(), "Update with unit distance " + std::to_string(u) + " fails");
-      check(messages.TakeError("unit distance"), "error for unit distance " + std::to_string(u));
-    }
-    check(table->GetBuildCount() == 0 && table->GetTable()->GetNumberOfTuples() == 0,
-      "nothing is built from invalid settings");
-    table->GetSampler()->SetScalarOpacityUnitDistance(1.0);
-    check(table->Update() && table->GetBuildCount() == 1, "valid again after the fixes");
-    messages.ExpectNone(check, "after restoring valid settings");
+    hovrTest::CheckInvalidTableSettings(
+      check, messages, table.GetPointer(), tf.Property.GetPointer(), tf.Color.GetPointer(), 2.0);
   }
 
   messages.ExpectNone(check, "at the end of the test");

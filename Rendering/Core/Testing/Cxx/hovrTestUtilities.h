@@ -108,6 +108,52 @@ private:
   vtkNew<vtkStringOutputWindow> Window;
   size_t Consumed = 0;
 };
+
+// The settings every vtkPreIntegrationTable validates: starting from a table without transfer
+// functions, each invalid setting makes Update() fail with an error naming it and builds
+// nothing; then the valid settings (the property's functions, segment length validLength,
+// range [0, 1], unit distance 1) build once, quietly.
+template <class Table, class Property, class Color>
+void CheckInvalidTableSettings(Checker& check,
+  MessageCapture& messages,
+  Table* table,
+  Property* property,
+  Color* color,
+  double validLength)
+{
+  check(!table->Update(), "Update without transfer functions fails");
+  check(messages.TakeError("colour transfer function"), "error for a missing colour function");
+  table->GetSampler()->SetColor(color);
+  check(!table->Update(), "Update without scalar opacity fails");
+  check(messages.TakeError("scalar opacity function"), "error for a missing opacity function");
+  table->SetVolumeProperty(property);
+  for (double length : { 0.0, -1.0, std::nan("") })
+  {
+    table->SetSegmentLength(length);
+    check(!table->Update(), "Update with segment length " + std::to_string(length) + " fails");
+    check(
+      messages.TakeError("segment length"), "error for segment length " + std::to_string(length));
+  }
+  table->SetSegmentLength(validLength);
+  for (double upper : { 5.0, 4.0 })
+  {
+    table->SetScalarRange(5.0, upper);
+    check(!table->Update(), "Update with scalar range [5, " + std::to_string(upper) + "] fails");
+    check(messages.TakeError("scalar range"), "error for an empty scalar range");
+  }
+  table->SetScalarRange(0.0, 1.0);
+  for (double u : { 0.0, -2.0 })
+  {
+    table->GetSampler()->SetScalarOpacityUnitDistance(u);
+    check(!table->Update(), "Update with unit distance " + std::to_string(u) + " fails");
+    check(messages.TakeError("unit distance"), "error for unit distance " + std::to_string(u));
+  }
+  check(table->GetBuildCount() == 0 && table->GetTable()->GetNumberOfTuples() == 0,
+    "nothing is built from invalid settings");
+  table->GetSampler()->SetScalarOpacityUnitDistance(1.0);
+  check(table->Update() && table->GetBuildCount() == 1, "valid again after the fixes");
+  messages.ExpectNone(check, "after restoring valid settings");
+}
 }
 
 #endif
