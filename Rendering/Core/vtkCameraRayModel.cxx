@@ -8,6 +8,7 @@
 #include "vtkImageData.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
@@ -228,6 +229,129 @@ void vtkCameraRayModel::ComputeDepths(vtkImageData* volume,
     }
     depth->SetValue(p, static_cast<float>(d));
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkCameraRayModel::GetGridRayFrame(vtkImageData* volume,
+  vtkMatrix4x4* propMatrix,
+  double centre[3],
+  double dx[3],
+  double dy[3],
+  double eye[3],
+  double forward[3],
+  bool& perspective) const
+{
+  if (!volume)
+  {
+    return false;
+  }
+  // World to grid index: the volume's physical-to-index map after the prop's inverse.
+  vtkNew<vtkMatrix4x4> toIndex;
+  if (propMatrix)
+  {
+    if (propMatrix->Determinant() == 0.0)
+    {
+      return false;
+    }
+    vtkMatrix4x4::Invert(propMatrix, toIndex);
+  }
+  vtkMatrix4x4::Multiply4x4(volume->GetPhysicalToIndexMatrix(), toIndex, toIndex);
+  const int* extent = volume->GetExtent();
+  for (int r = 0; r < 3; ++r)
+  {
+    toIndex->SetElement(r, 3, toIndex->GetElement(r, 3) - extent[2 * r]);
+  }
+  auto point = [&](const double w[3], double g[3])
+  {
+    const double in[4] = { w[0], w[1], w[2], 1.0 };
+    double out[4];
+    toIndex->MultiplyPoint(in, out);
+    std::copy(out, out + 3, g);
+  };
+  auto vector = [&](const double w[3], double g[3])
+  {
+    const double in[4] = { w[0], w[1], w[2], 0.0 };
+    double out[4];
+    toIndex->MultiplyPoint(in, out);
+    std::copy(out, out + 3, g);
+  };
+
+  // The plane through the volume's centre (in world) perpendicular to forward.
+  double bounds[6], c[3];
+  volume->GetBounds(bounds);
+  double physical[4] = {
+    0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]), 1.0
+  };
+  if (propMatrix)
+  {
+    propMatrix->MultiplyPoint(physical, physical);
+  }
+  std::copy(physical, physical + 3, c);
+  double toPlane[3];
+  vtkMath::Subtract(c, this->Position, toPlane);
+  const double distance = vtkMath::Dot(toPlane, this->Forward);
+  // Offsets of the centre ray's point per pixel: for the formulas of the class comment, a
+  // pixel step moves x by 2 / W, which moves the ray's point on that plane by
+  // 2 HalfWidth / W right, times the plane's distance under perspective (forward is unit and
+  // orthogonal to right and up).
+  const double scale = this->Parallel ? 1.0 : distance;
+  double base[3], stepX[3], stepY[3];
+  for (int r = 0; r < 3; ++r)
+  {
+    base[r] = this->Position[r] + distance * this->Forward[r];
+    stepX[r] = scale * 2.0 * this->HalfWidth / this->ImageSize[0] * this->Right[r];
+    stepY[r] = scale * 2.0 * this->HalfHeight / this->ImageSize[1] * this->Up[r];
+  }
+  point(base, centre);
+  vector(stepX, dx);
+  vector(stepY, dy);
+  vector(this->Forward, forward);
+  perspective = !this->Parallel;
+  if (perspective)
+  {
+    point(this->Position, eye);
+  }
+  else
+  {
+    vtkMath::Subtract(centre, forward, eye);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkCameraRayModel::ComputeProjectionMismatch() const
+{
+  if (!this->Camera)
+  {
+    return VTK_DOUBLE_MAX;
+  }
+  const int w = this->ImageSize[0], h = this->ImageSize[1];
+  vtkMatrix4x4* m =
+    this->Camera->GetCompositeProjectionTransformMatrix(static_cast<double>(w) / h, -1.0, 1.0);
+  double range[2];
+  this->Camera->GetClippingRange(range);
+  double worst = 0.0;
+  const int pixels[5][2] = {
+    { 0, 0 }, { w - 1, 0 }, { 0, h - 1 }, { w - 1, h - 1 }, { w / 2, h / 2 }
+  };
+  for (const auto& pixel : pixels)
+  {
+    double o[3], d[3];
+    this->GetPixelRay(pixel[0], pixel[1], o, d);
+    const double x = 2.0 * (pixel[0] + 0.5) / w - 1.0, y = 2.0 * (pixel[1] + 0.5) / h - 1.0;
+    for (const double s : { range[0], 0.5 * (range[0] + range[1]), range[1] })
+    {
+      const double p[4] = { o[0] + s * d[0], o[1] + s * d[1], o[2] + s * d[2], 1.0 };
+      double q[4];
+      m->MultiplyPoint(p, q);
+      if (!(q[3] != 0.0))
+      {
+        return VTK_DOUBLE_MAX;
+      }
+      worst = std::max({ worst, std::abs(q[0] / q[3] - x), std::abs(q[1] / q[3] - y) });
+    }
+  }
+  return worst;
 }
 
 //------------------------------------------------------------------------------

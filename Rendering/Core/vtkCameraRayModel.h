@@ -25,6 +25,7 @@ class vtkCamera;
 class vtkDataArray;
 class vtkFloatArray;
 class vtkImageData;
+class vtkMatrix4x4;
 
 class HOVRRENDERINGCORE_EXPORT vtkCameraRayModel : public vtkObject
 {
@@ -89,6 +90,33 @@ public:
    */
   void ComputeDepths(vtkImageData* volume, vtkDataArray* positions, vtkFloatArray* depth) const;
 
+  /**
+   * The pixel rays in the continuous grid index of a volume (0-based from its extent's first
+   * point) drawn with the prop matrix propMatrix (nullptr: identity), as an affine frame that a
+   * GPU can evaluate per pixel in float. The ray of pixel (i, j) passes through
+   *   base(i, j) = centre + (i + 1/2 - W/2) dx + (j + 1/2 - H/2) dy,
+   * a point on the plane through the volume's centre facing the camera, with direction
+   * base(i, j) - eye (perspective) or forward (parallel; eye is then set to centre - forward).
+   * Points near the volume keep float rounding at the scale of the volume instead of the
+   * camera's distance. Directions are not normalised. Requires Prepare(); returns false for a
+   * missing volume or a singular prop matrix.
+   */
+  bool GetGridRayFrame(vtkImageData* volume,
+    vtkMatrix4x4* propMatrix,
+    double centre[3],
+    double dx[3],
+    double dy[3],
+    double eye[3],
+    double forward[3],
+    bool& perspective) const;
+  /**
+   * Largest distance, in normalised device coordinates, between the pixel centres and VTK's
+   * own projection of points along their rays (vtkCamera::GetCompositeProjectionTransformMatrix
+   * at the image's aspect), over the corner and centre pixels. Near 0 for cameras the model
+   * describes; large for the ones it does not (window centre, view shear, stereo, explicit
+   * projection or model transforms). Requires Prepare().
+   */
+  double ComputeProjectionMismatch() const;
   vtkMTimeType GetMTime() override;
 
 protected:

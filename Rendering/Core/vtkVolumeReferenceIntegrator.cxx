@@ -64,7 +64,9 @@ public:
   std::vector<double> IsoValues;
   bool Shade = false;
   double Ambient = 0, Diffuse = 1, Specular = 0, SpecularPower = 1;
-  float* Extra = nullptr; // Depth, MaxScalar or MinScalar
+  float* Extra = nullptr;  // Depth, MaxScalar or MinScalar
+  double IsoShift = 0.0;   // isosurface: the isovalue perturbation of DepthSpread
+  float* Spread = nullptr; // isosurface: DepthSpread
 
   RayCaster(const VolumeGrid& grid,
     const vtkCameraRayModel* rays,
@@ -89,12 +91,13 @@ public:
     vtkIdType& samples = this->Samples.Local();
     for (vtkIdType p = begin; p < end; ++p)
     {
-      double rgba[4], extra = std::numeric_limits<double>::quiet_NaN();
+      double rgba[4], extra = std::numeric_limits<double>::quiet_NaN(), spread = 0.0;
       const int i = static_cast<int>(p % this->Width), j = static_cast<int>(p / this->Width);
       switch (this->BlendMode)
       {
         case vtkVolumeReferenceIntegrator::ISOSURFACE_BLEND:
-          samples += this->CastIsoSurface(i, j, rgba, extra);
+          samples += this->CastIsoSurface(i, j, rgba, extra, spread);
+          this->Spread[p] = static_cast<float>(spread);
           break;
         case vtkVolumeReferenceIntegrator::MAXIMUM_INTENSITY_BLEND:
         case vtkVolumeReferenceIntegrator::MINIMUM_INTENSITY_BLEND:
@@ -146,11 +149,69 @@ public:
     return !std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); });
   }
 
-  // The opaque isosurface: first crossing of any isovalue; extra = world depth of the hit.
-  // Returns the number of cells visited.
-  vtkIdType CastIsoSurface(int i, int j, double rgba[4], double& depth) const
+  // The first crossing along the ray o + t v of any isovalue shifted by shift: the hit cell,
+  // its entry t0, its corners, the hit's offset best from t0 and its isovalue. Returns false
+  // on a miss; cells counts the cells visited.
+  struct Hit
+  {
+    int Cell[3];
+    double T0, Best, Value, Corner[8], U0[3];
+  };
+  bool FindFirstHit(const double o[3],
+    const double v[3],
+    vtkGridRayTraversal walk,
+    double shift,
+    Hit& hit,
+    vtkIdType& cells) const
+  {
+    double t1;
+    while (walk.Next(hit.Cell, hit.T0, t1))
+    {
+      ++cells;
+      if (!this->GetCorners(hit.Cell, hit.Corner))
+      {
+        continue;
+      }
+      // The interpolant stays within its corner range: only values inside can be crossed.
+      const auto range = std::minmax_element(hit.Corner, hit.Corner + 8);
+      CellEntry(o, v, hit.T0, hit.Cell, hit.U0);
+      vtkTrilinearRayProfile profile;
+      bool profileSet = false;
+      hit.Best = VTK_DOUBLE_MAX;
+      for (double isovalue : this->IsoValues)
+      {
+        const double value = isovalue + shift;
+        if (value < *range.first || value > *range.second)
+        {
+          continue;
+        }
+        if (!profileSet)
+        {
+          profile.Set(hit.Corner, hit.U0, v);
+          profileSet = true;
+        }
+        double t;
+        if (profile.FindFirstCrossing(value, t1 - hit.T0, t) && t < hit.Best)
+        {
+          hit.Best = t;
+          hit.Value = isovalue;
+        }
+      }
+      if (hit.Best != VTK_DOUBLE_MAX)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The opaque isosurface: first crossing of any isovalue; extra = world depth of the hit,
+  // spread = how far it moves when the isovalues move by +-IsoShift (infinite when the ray
+  // then misses or starts to hit). Returns the number of cells visited.
+  vtkIdType CastIsoSurface(int i, int j, double rgba[4], double& depth, double& spread) const
   {
     rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    spread = 0.0;
     double o[3], v[3];
     vtkGridRayTraversal walk;
     if (!this->StartRay(i, j, o, v, walk))
@@ -158,85 +219,69 @@ public:
       return 0;
     }
     vtkIdType cells = 0;
-    int cell[3];
-    double t0, t1, corner[8];
-    while (walk.Next(cell, t0, t1))
+    Hit hit;
+    const bool found = this->FindFirstHit(o, v, walk, 0.0, hit, cells);
+    if (this->IsoShift > 0.0)
     {
-      ++cells;
-      if (!this->GetCorners(cell, corner))
+      for (const double shift : { -this->IsoShift, this->IsoShift })
       {
-        continue;
-      }
-      // The interpolant stays within its corner range: only values inside can be crossed.
-      const auto range = std::minmax_element(corner, corner + 8);
-      double u0[3];
-      CellEntry(o, v, t0, cell, u0);
-      vtkTrilinearRayProfile profile;
-      bool profileSet = false;
-      double best = VTK_DOUBLE_MAX, bestValue = 0.0;
-      for (double value : this->IsoValues)
-      {
-        if (value < *range.first || value > *range.second)
+        Hit moved;
+        vtkIdType ignored = 0;
+        if (this->FindFirstHit(o, v, walk, shift, moved, ignored) != found)
         {
-          continue;
+          spread = std::numeric_limits<double>::infinity();
         }
-        if (!profileSet)
+        else if (found)
         {
-          profile.Set(corner, u0, v);
-          profileSet = true;
-        }
-        double t;
-        if (profile.FindFirstCrossing(value, t1 - t0, t) && t < best)
-        {
-          best = t;
-          bestValue = value;
+          spread = std::max(spread, std::abs(moved.T0 + moved.Best - hit.T0 - hit.Best));
         }
       }
-      if (best == VTK_DOUBLE_MAX)
-      {
-        continue;
-      }
-      depth = t0 + best;
-      double rgbTau[4];
-      this->Sampler->Evaluate(bestValue, rgbTau);
-      double light = 1.0, specular = 0.0;
-      if (this->Shade)
-      {
-        // Exact gradient of the trilinear field at the hit, in index space; the world
-        // gradient is M^T g for index = M world, and g . v equals the world gradient dotted
-        // with the (unit) world ray direction.
-        const double u[3] = { u0[0] + best * v[0], u0[1] + best * v[1], u0[2] + best * v[2] };
-        double g[3] = { 0, 0, 0 };
-        for (int c = 0; c < 8; ++c)
-        {
-          const double w[3] = {
-            (c & 1) ? u[0] : 1 - u[0], (c & 2) ? u[1] : 1 - u[1], (c & 4) ? u[2] : 1 - u[2]
-          };
-          const double dw[3] = { (c & 1) ? 1.0 : -1.0, (c & 2) ? 1.0 : -1.0, (c & 4) ? 1.0 : -1.0 };
-          g[0] += dw[0] * w[1] * w[2] * corner[c];
-          g[1] += w[0] * dw[1] * w[2] * corner[c];
-          g[2] += w[0] * w[1] * dw[2] * corner[c];
-        }
-        const double* m = this->Grid.PhysicalToIndex;
-        double world[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          world[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
-        }
-        const double norm =
-          std::sqrt(world[0] * world[0] + world[1] * world[1] + world[2] * world[2]);
-        const double nv =
-          norm > 0.0 ? std::abs(g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) / norm : 0.0;
-        light = this->Ambient + this->Diffuse * nv;
-        specular = nv > 0.0 ? this->Specular * std::pow(nv, this->SpecularPower) : 0.0;
-      }
-      for (int c = 0; c < 3; ++c)
-      {
-        rgba[c] = std::min(1.0, rgbTau[c] * light + specular);
-      }
-      rgba[3] = 1.0;
+    }
+    if (!found)
+    {
       return cells;
     }
+    const double* corner = hit.Corner;
+    const double* u0 = hit.U0;
+    const double best = hit.Best;
+    depth = hit.T0 + best;
+    double rgbTau[4];
+    this->Sampler->Evaluate(hit.Value, rgbTau);
+    double light = 1.0, specular = 0.0;
+    if (this->Shade)
+    {
+      // Exact gradient of the trilinear field at the hit, in index space; the world
+      // gradient is M^T g for index = M world, and g . v equals the world gradient dotted
+      // with the (unit) world ray direction.
+      const double u[3] = { u0[0] + best * v[0], u0[1] + best * v[1], u0[2] + best * v[2] };
+      double g[3] = { 0, 0, 0 };
+      for (int c = 0; c < 8; ++c)
+      {
+        const double w[3] = {
+          (c & 1) ? u[0] : 1 - u[0], (c & 2) ? u[1] : 1 - u[1], (c & 4) ? u[2] : 1 - u[2]
+        };
+        const double dw[3] = { (c & 1) ? 1.0 : -1.0, (c & 2) ? 1.0 : -1.0, (c & 4) ? 1.0 : -1.0 };
+        g[0] += dw[0] * w[1] * w[2] * corner[c];
+        g[1] += w[0] * dw[1] * w[2] * corner[c];
+        g[2] += w[0] * w[1] * dw[2] * corner[c];
+      }
+      const double* m = this->Grid.PhysicalToIndex;
+      double world[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        world[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
+      }
+      const double norm =
+        std::sqrt(world[0] * world[0] + world[1] * world[1] + world[2] * world[2]);
+      const double nv = norm > 0.0 ? std::abs(g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) / norm : 0.0;
+      light = this->Ambient + this->Diffuse * nv;
+      specular = nv > 0.0 ? this->Specular * std::pow(nv, this->SpecularPower) : 0.0;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      rgba[c] = std::min(1.0, rgbTau[c] * light + specular);
+    }
+    rgba[3] = 1.0;
     return cells;
   }
 
@@ -486,6 +531,14 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
                                                "minimum intensity (2) or isosurface (5).");
     return 1;
   }
+  vtkNew<vtkFloatArray> spread;
+  if (iso)
+  {
+    spread->SetName("DepthSpread");
+    spread->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+    spread->FillValue(0.0f);
+    output->GetPointData()->AddArray(spread);
+  }
 
   // Validate; on error the output stays a transparent image of the requested size.
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
@@ -575,6 +628,8 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   caster.BlendMode = this->BlendMode;
   caster.IsoValues = isoValues;
   caster.Extra = (iso || projection) ? extra->GetPointer(0) : nullptr;
+  caster.Spread = iso ? spread->GetPointer(0) : nullptr;
+  caster.IsoShift = this->IsoPerturbation * dataRange;
   caster.Shade = this->VolumeProperty->GetShade(0) != 0;
   caster.Ambient = this->VolumeProperty->GetAmbient(0);
   caster.Diffuse = this->VolumeProperty->GetDiffuse(0);
@@ -607,5 +662,6 @@ void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BlendMode: " << this->BlendMode << "\n";
   os << indent << "ScalarTolerance: " << this->ScalarTolerance << "\n";
   os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";
+  os << indent << "IsoPerturbation: " << this->IsoPerturbation << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
 }

@@ -27,6 +27,9 @@
  *   volume property's isosurface values (vtkVolumeProperty::GetIsoSurfaceValues()), found
  *   with vtkTrilinearRayProfile::FindFirstCrossing in the first cell whose range holds a value.
  *   Point data "Depth" (float) is the world distance from the ray's origin (NaN on a miss);
+ *   "DepthSpread" (float) the largest change of that depth, in world units, when every
+ *   isovalue moves by +-IsoPerturbation of the data range (infinite where the ray would then
+ *   miss or start to hit: grazing and touching rays; 0 on other misses);
  *   "RGBA" is the opaque surface: the colour transfer function at the isovalue, shaded when
  *   the property's Shade is on with a headlight along the ray (ambient + diffuse |n.v| +
  *   specular |n.v|^power, two-sided, n the exact gradient of the trilinear field).
@@ -118,6 +121,18 @@ public:
 
   ///@{
   /**
+   * Isosurface blending: the isovalue shift, as a fraction of the data range, that measures
+   * how well each pixel's first hit is determined (the "DepthSpread" array). A float ray
+   * caster cannot place a hit better than its spread: at tangent hits, and where the ray
+   * passes within rounding of the isovalue before its hit, a shift this small moves the hit
+   * far. 0 turns the measure off (spread 0). Initial value is 1e-6.
+   */
+  vtkSetClampMacro(IsoPerturbation, double, 0.0, 1.0);
+  vtkGetMacro(IsoPerturbation, double);
+  ///@}
+
+  ///@{
+  /**
    * Rays stop when the transmittance falls below this value. Initial value is 1e-7.
    */
   vtkSetClampMacro(TransmittanceCutoff, double, 0.0, 1.0);
@@ -147,6 +162,7 @@ protected:
   int BlendMode = COMPOSITE_BLEND;
   double ScalarTolerance = 1.0 / 64.0;
   double TransmittanceCutoff = 1e-7;
+  double IsoPerturbation = 1e-6;
   vtkIdType NumberOfSamples = 0;
 
 private:

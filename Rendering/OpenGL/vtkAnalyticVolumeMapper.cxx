@@ -1,6 +1,8 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkAnalyticVolumeMapper.h"
 
+#include "vtkCamera.h"
+#include "vtkCameraRayModel.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
@@ -93,6 +95,7 @@ void ComputeBlockRanges(vtkDataArray* scalars,
 //------------------------------------------------------------------------------
 vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
   : BlockTexture(vtkTextureObject::New())
+  , RayModel(vtkCameraRayModel::New())
 {
 }
 
@@ -100,6 +103,46 @@ vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
 vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
 {
   this->BlockTexture->Delete();
+  this->RayModel->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  // VTK's shader reaches a ray's points through float matrices from window to texture space,
+  // with eye-space values of the camera's distance: the ray lands up to ~1e-4 world units off
+  // at a distance of ~600, which a slanted surface turns into 1e-3 voxel of depth. The camera
+  // model gives each ray's point near the volume and its direction in double, so float only
+  // rounds at the volume's own scale.
+  this->RayFrameInUse = 0;
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkCamera* camera = ren->GetActiveCamera();
+  int size[2], lowerLeft[2];
+  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &lowerLeft[0], &lowerLeft[1]);
+  if (!input || !camera || size[0] < 1 || size[1] < 1)
+  {
+    return;
+  }
+  this->RayModel->SetCamera(camera);
+  this->RayModel->SetImageSize(size);
+  double frame[5][3];
+  bool perspective = false;
+  // Cameras the model does not describe (window centre, shear, explicit projection) keep
+  // VTK's matrices: 1e-9 in normalised device coordinates is far below a pixel.
+  if (!this->RayModel->Prepare() || this->RayModel->ComputeProjectionMismatch() > 1e-9 ||
+    !this->RayModel->GetGridRayFrame(
+      input, vol->GetMatrix(), frame[0], frame[1], frame[2], frame[3], frame[4], perspective))
+  {
+    return;
+  }
+  for (int v = 0; v < 5; ++v)
+  {
+    std::copy(frame[v], frame[v] + 3, this->RayFrame[v]);
+  }
+  this->RayPixelCentre[0] = 0.5f * size[0];
+  this->RayPixelCentre[1] = 0.5f * size[1];
+  this->RayPerspective = perspective ? 1 : 0;
+  this->RayFrameInUse = 1;
 }
 
 //------------------------------------------------------------------------------
@@ -278,6 +321,10 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   {
     return DrawNothing;
   }
+  if (this->Method == ANALYTIC)
+  {
+    this->UpdateRayFrame(ren, vol);
+  }
   if (this->Method != ANALYTIC || this->BlockSize == 0)
   {
     this->BlockTextureMemorySize = 0;
@@ -374,6 +421,17 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   {
     return;
   }
+  program->SetUniformi("hovr_rayFrameInUse", this->RayFrameInUse);
+  if (this->RayFrameInUse)
+  {
+    program->SetUniform3f("hovr_rayCentre", this->RayFrame[0]);
+    program->SetUniform3f("hovr_rayDx", this->RayFrame[1]);
+    program->SetUniform3f("hovr_rayDy", this->RayFrame[2]);
+    program->SetUniform3f("hovr_rayEye", this->RayFrame[3]);
+    program->SetUniform3f("hovr_rayForward", this->RayFrame[4]);
+    program->SetUniform2f("hovr_rayPixelCentre", this->RayPixelCentre);
+    program->SetUniformi("hovr_rayPerspective", this->RayPerspective);
+  }
   if (this->BlockSize > 0)
   {
     program->SetUniformi("hovr_blockRange", this->BlockTexture->GetTextureUnit());
@@ -397,4 +455,5 @@ void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OutputQuantity: " << this->OutputQuantity << "\n";
   os << indent << "BlockSize: " << this->BlockSize << "\n";
   os << indent << "BlockTextureMemorySize: " << this->BlockTextureMemorySize << "\n";
+  os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
 }

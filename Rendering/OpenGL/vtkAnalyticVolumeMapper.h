@@ -23,6 +23,13 @@
  * Method STOCK draws with VTK's own shader (its sampled isosurface and projections), so the
  * two can be compared through the same OutputQuantity.
  *
+ * Rays: each pixel's ray comes from vtkCameraRayModel in double precision, as a point near
+ * the volume and a direction in grid index (the frame of GetGridRayFrame), so float rounding
+ * stays at the scale of the volume rather than of the camera's distance; the reference
+ * integrator casts the same rays. Cameras the model does not describe (window centre, view
+ * shear, explicit projection or model transforms) are reached through VTK's float matrices
+ * instead, as the stock shader does; PrintSelf reports which (RayFrameInUse).
+ *
  * Limits (each reported once, then VTK's stock shader draws): single-component point scalars
  * in one texture block (no cell data, no partitioned volumes), no cropping, 1D transfer
  * functions. Empty volumes or volumes with fewer than 2 points along an axis are not drawn,
@@ -39,6 +46,7 @@
 #include <string> // For std::string
 #include <vector> // For std::vector
 
+class vtkCameraRayModel;
 class vtkTextureObject;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkAnalyticVolumeMapper
@@ -121,6 +129,10 @@ protected:
     double scale,
     double shift);
 
+  // The rays of this frame as an affine frame in grid index (vtkCameraRayModel, double), when
+  // the model describes the camera; otherwise the shader goes through VTK's float matrices.
+  void UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol);
+
   // Why the analytic shader cannot draw this frame, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars, int cellFlag);
 
@@ -139,6 +151,11 @@ protected:
   std::vector<float> IsoRaw;
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
+  vtkCameraRayModel* RayModel;
+  int RayFrameInUse = 0;
+  float RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
+  float RayPixelCentre[2] = { 0.0f, 0.0f };
+  int RayPerspective = 0;
 
 private:
   vtkAnalyticVolumeMapper(const vtkAnalyticVolumeMapper&) = delete;

@@ -35,6 +35,20 @@ uniform float hovr_isoRaw[HOVR_ISO_COUNT]; // isovalues in raw texture units
 uniform float hovr_rawExtreme; // the data's largest (MIP) or smallest (MinIP) raw value
 #endif
 
+// The rays as an affine frame in grid index, computed in double on the CPU
+// (vtkCameraRayModel::GetGridRayFrame) when hovr_rayFrameInUse is 1: the ray of the pixel at
+// offset p from the viewport's centre passes through hovr_rayCentre + p.x hovr_rayDx +
+// p.y hovr_rayDy, near the volume, along that point minus hovr_rayEye (perspective) or along
+// hovr_rayForward (parallel). Otherwise rays go through VTK's matrices.
+uniform int hovr_rayFrameInUse;
+uniform vec3 hovr_rayCentre;
+uniform vec3 hovr_rayDx;
+uniform vec3 hovr_rayDy;
+uniform vec3 hovr_rayEye;
+uniform vec3 hovr_rayForward;
+uniform vec2 hovr_rayPixelCentre;
+uniform int hovr_rayPerspective;
+
 // Corner values of the current cell: (v000, v100, v010, v110) and the same at k + 1.
 vec4 hovr_lower;
 vec4 hovr_upper;
@@ -154,34 +168,46 @@ void hovr_analyticRay()
   ivec3 dims = textureSize(in_volume[0], 0);
   ivec3 lastCell = dims - ivec3(2);
   vec3 last = vec3(dims - ivec3(1));
-  vec3 start = hovr_textureToIndex(hovr_windowToTexture(0.0)); // the near plane
-  vec3 ray = hovr_textureToIndex(g_rayTermination) - start;
-  float len = length(ray);
+  // The ray runs from the near plane to VTK's termination point (far plane or opaque
+  // geometry), as a base point plus [sNear, sFar] along the unit direction.
+  vec3 start = hovr_textureToIndex(hovr_windowToTexture(0.0));
+  vec3 stop = hovr_textureToIndex(g_rayTermination);
+  vec3 base = start;
+  vec3 dir = stop - start;
+  if (hovr_rayFrameInUse == 1)
+  {
+    vec2 p = gl_FragCoord.xy - in_windowLowerLeftCorner - hovr_rayPixelCentre;
+    base = hovr_rayCentre + p.x * hovr_rayDx + p.y * hovr_rayDy;
+    dir = hovr_rayPerspective == 1 ? base - hovr_rayEye : hovr_rayForward;
+  }
+  float len = length(dir);
   if (!(len > 0.0))
   {
     return;
   }
-  vec3 dir = ray / len;
+  dir /= len;
+  float sNear = dot(start - base, dir);
+  float sFar = dot(stop - base, dir);
   bvec3 still = equal(dir, vec3(0.0));
   vec3 inv = 1.0 / mix(dir, vec3(1.0), still);
   // Clip to the box of the points, [0, dims - 1]^3.
-  vec3 ta = -start * inv;
-  vec3 tb = (last - start) * inv;
+  vec3 ta = -base * inv;
+  vec3 tb = (last - base) * inv;
   vec3 tlo = mix(min(ta, tb), vec3(-1e30), still);
   vec3 thi = mix(max(ta, tb), vec3(1e30), still);
   // (GLSL has no && on boolean vectors: masks as 0/1 floats.)
-  vec3 outside = vec3(lessThan(start, vec3(0.0))) + vec3(greaterThan(start, last));
+  vec3 outside = vec3(lessThan(base, vec3(0.0))) + vec3(greaterThan(base, last));
   if (dot(vec3(still), outside) > 0.0)
   {
     return;
   }
-  float t0 = max(max(max(tlo.x, tlo.y), tlo.z), 0.0);
-  float t1 = min(min(min(thi.x, thi.y), thi.z), len);
+  float t0 = max(max(max(tlo.x, tlo.y), tlo.z), sNear);
+  float t1 = min(min(min(thi.x, thi.y), thi.z), sFar);
   if (!(t0 < t1))
   {
     return;
   }
-  vec3 entry = clamp(start + t0 * dir, vec3(0.0), last);
+  vec3 entry = clamp(base + t0 * dir, vec3(0.0), last);
   float span = t1 - t0;
   // Section 7: the previous crossing is the entry rounded against the direction.
   ivec3 iStep = ivec3(sign(dir));

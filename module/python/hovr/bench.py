@@ -61,7 +61,12 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
-              "depth_outliers", "extremum_max_error", "extremum_mean_error"]
+              "depth_outliers", "grazing_pixels", "disagreements_not_grazing",
+              "depth_max_error_not_grazing", "depth_outliers_not_grazing",
+              "extremum_max_error", "extremum_mean_error"]
+
+# Part of the reference cache key: bump when the reference's output changes.
+REFERENCE_VERSION = 2
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -128,7 +133,8 @@ def _reference_key(spec, image, prop_desc, camera, size):
     from vtkmodules.util.numpy_support import vtk_to_numpy
     digest.update(vtk_to_numpy(scalars).tobytes())
     digest.update(json.dumps([image.GetDimensions(), image.GetSpacing(), image.GetOrigin(),
-                              prop_desc, hio.camera_to_dict(camera), size],
+                              prop_desc, hio.camera_to_dict(camera), size,
+                              REFERENCE_VERSION],
                              sort_keys=True).encode())
     return digest.hexdigest()[:20]
 

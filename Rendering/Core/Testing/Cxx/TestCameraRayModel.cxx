@@ -4,9 +4,11 @@
 // project to that pixel's centre in normalised device coordinates. Bad cameras give errors.
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
+#include "vtkImageData.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
+#include "vtkTransform.h"
 
 #include "hovrTestUtilities.h"
 
@@ -196,6 +198,94 @@ int TestCameraRayModel(int, char*[])
         ", horizontal view angle: pixel rays project onto their pixel centres");
   }
   camera->UseHorizontalViewAngleOff();
+  camera->ParallelProjectionOff();
+
+  //----------------------------------------------------------------------------
+  // The grid ray frame (what vtkAnalyticVolumeMapper gives its shader): for every pixel, the
+  // frame's base point lies on that pixel's ray, mapped to the grid index of a volume with an
+  // extent not starting at 0, anisotropic spacing, an origin and a rotated, scaled prop; the
+  // base point lies on the plane through the volume's centre facing the camera, and the
+  // frame's direction is the ray's. ComputeProjectionMismatch is ~0 for cameras the model
+  // describes and large for a window centre.
+  {
+    vtkNew<vtkImageData> volume;
+    volume->SetExtent(2, 9, -3, 4, 5, 10);
+    volume->SetSpacing(0.5, 0.25, 0.75);
+    volume->SetOrigin(-1.0, 0.5, -4.0);
+    vtkNew<vtkTransform> prop;
+    prop->Translate(0.3, -0.2, 0.1);
+    prop->RotateWXYZ(20.0, 1.0, 2.0, 0.5);
+    prop->Scale(1.1, 0.9, 1.0);
+    vtkMatrix4x4* propMatrix = prop->GetMatrix();
+    vtkNew<vtkMatrix4x4> worldToIndex;
+    vtkMatrix4x4::Invert(propMatrix, worldToIndex);
+    vtkMatrix4x4::Multiply4x4(volume->GetPhysicalToIndexMatrix(), worldToIndex, worldToIndex);
+    double physicalCentre[4] = { 0, 0, 0, 1 }, worldCentre[4];
+    volume->GetCenter(physicalCentre);
+    propMatrix->MultiplyPoint(physicalCentre, worldCentre);
+    for (int parallel : { 1, 0 })
+    {
+      const std::string kind = parallel ? "parallel" : "perspective";
+      camera->SetParallelProjection(parallel);
+      check(model->Prepare(), "Prepare for the grid frame");
+      check(model->ComputeProjectionMismatch() < 1e-12,
+        kind + ": no projection mismatch for a camera the model describes");
+      double centre[3], dx[3], dy[3], eye[3], forward[3];
+      bool perspective = false;
+      check(model->GetGridRayFrame(volume, propMatrix, centre, dx, dy, eye, forward, perspective) &&
+          perspective == !parallel,
+        kind + ": grid ray frame");
+      double worstLine = 0.0, worstDirection = 0.0, worstPlane = 0.0;
+      for (int j = 0; j < h; ++j)
+      {
+        for (int i = 0; i < w; ++i)
+        {
+          double base[3], direction[3], o[3], d[3];
+          for (int a = 0; a < 3; ++a)
+          {
+            base[a] = centre[a] + (i + 0.5 - 0.5 * w) * dx[a] + (j + 0.5 - 0.5 * h) * dy[a];
+            direction[a] = perspective ? base[a] - eye[a] : forward[a];
+          }
+          vtkMath::Normalize(direction);
+          // The model's world ray in grid index (0-based from the extent's first point).
+          model->GetPixelRay(i, j, o, d);
+          double oi[4] = { o[0], o[1], o[2], 1.0 }, di[4] = { d[0], d[1], d[2], 0.0 };
+          worldToIndex->MultiplyPoint(oi, oi);
+          worldToIndex->MultiplyPoint(di, di);
+          const int* extent = volume->GetExtent();
+          for (int a = 0; a < 3; ++a)
+          {
+            oi[a] -= extent[2 * a];
+          }
+          vtkMath::Normalize(di);
+          worstLine = std::max(worstLine, DistanceToRay(base, oi, di));
+          worstDirection =
+            std::max(worstDirection, std::sqrt(vtkMath::Distance2BetweenPoints(direction, di)));
+          // Back in world: base - world centre is orthogonal to the view direction.
+          double bw[4] = { base[0] + extent[0], base[1] + extent[2], base[2] + extent[4], 1.0 };
+          volume->TransformContinuousIndexToPhysicalPoint(bw, bw);
+          propMatrix->MultiplyPoint(bw, bw);
+          double offset[3], dop[3];
+          vtkMath::Subtract(bw, worldCentre, offset);
+          camera->GetDirectionOfProjection(dop);
+          worstPlane = std::max(worstPlane, std::abs(vtkMath::Dot(offset, dop)));
+        }
+      }
+      check.Near(worstLine, 0.0, 1e-12, kind + ": frame base points lie on the pixel rays");
+      check.Near(worstDirection, 0.0, 1e-12, kind + ": frame directions are the pixel rays'");
+      check.Near(worstPlane, 0.0, 1e-12, kind + ": base points on the plane through the centre");
+    }
+    vtkNew<vtkMatrix4x4> singular;
+    singular->SetElement(2, 2, 0.0);
+    double v[5][3];
+    bool perspective;
+    check(!model->GetGridRayFrame(volume, singular, v[0], v[1], v[2], v[3], v[4], perspective),
+      "a singular prop matrix has no grid frame");
+    camera->SetWindowCenter(1e-6, 0.0);
+    check(
+      model->ComputeProjectionMismatch() > 1e-7, "a window centre shows as a projection mismatch");
+    camera->SetWindowCenter(0.0, 0.0);
+  }
   camera->ParallelProjectionOff();
 
   // The model follows camera changes through its MTime.

@@ -8,6 +8,7 @@
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkContourValues.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -849,6 +850,56 @@ int TestVolumeReferenceIntegrator(int, char*[])
     expectFailure(empty, homogeneous, camera, "scalars", "empty image");
     expectFailure(constant, nullptr, camera, "volume property", "missing volume property");
     expectFailure(constant, homogeneous, nullptr, "camera", "missing camera");
+  }
+
+  //----------------------------------------------------------------------------
+  // DepthSpread: how far the first hit moves when the isovalues move by +-IsoPerturbation of
+  // the data range. One parallel ray along +x through y = z = 0.5 of a 3 x 2 x 2 grid
+  // (spacing 2 along x) whose values along x are 0, 1, 0.5:
+  //   - isovalue 0.5: a clean crossing at x = 1 (world), where the field rises 1/2 per world
+  //     unit, so the hit moves by 1e-6 * range / (1/2) = 2e-6;
+  //   - isovalue 1: the field touches it at its maximum: a shift up makes the ray miss, so
+  //     the spread is infinite;
+  //   - isovalue 2: a miss either way, spread 0.
+  {
+    const int dims[3] = { 3, 2, 2 };
+    const double spacing[3] = { 2.0, 1.0, 1.0 }, zero[3] = { 0.0, 0.0, 0.0 };
+    auto peak = MakeVolume(dims,
+      spacing,
+      zero,
+      [](const double* x) { return x[0] < 1.0 ? 0.0 : (x[0] < 3.0 ? 1.0 : 0.5); });
+    auto surface = MakeProperty({ { 0.0, 1.0, 1.0, 1.0 } }, { { 0.0, 1.0 } }, 1.0);
+    vtkNew<vtkCamera> along;
+    const double from[3] = { -5.0, 0.5, 0.5 }, to[3] = { 0.0, 0.5, 0.5 }, zUp[3] = { 0, 0, 1 };
+    SetupCamera(along, from, to, zUp, true, 0.1);
+    vtkNew<vtkVolumeReferenceIntegrator> spread;
+    spread->SetInputData(peak);
+    spread->SetVolumeProperty(surface);
+    spread->SetCamera(along);
+    spread->SetImageSize(1, 1);
+    spread->SetBlendModeToIsoSurface();
+    check(spread->GetIsoPerturbation() == 1e-6, "IsoPerturbation is 1e-6 by default");
+    auto run = [&](double isovalue, double& depth)
+    {
+      surface->GetIsoSurfaceValues()->SetValue(0, isovalue);
+      spread->Modified();
+      spread->Update();
+      vtkPointData* pd = spread->GetOutput()->GetPointData();
+      depth = pd->GetArray("Depth")->GetComponent(0, 0);
+      return pd->GetArray("DepthSpread")->GetComponent(0, 0);
+    };
+    double depth;
+    const double crossing = run(0.5, depth);
+    check.Near(depth, 6.0, 1e-6, "the ray meets isovalue 0.5 at x = 1, 6 from the camera plane");
+    check.Near(crossing, 2e-6, 1e-9, "clean crossing: DepthSpread = shift / slope");
+    const double touch = run(1.0, depth);
+    check(std::isinf(touch) && std::abs(depth - 7.0) < 1e-6,
+      "touching the maximum: a hit at x = 2 with an infinite spread (got spread " +
+        std::to_string(touch) + ", depth " + std::to_string(depth) + ")");
+    const double miss = run(2.0, depth);
+    check(miss == 0.0 && std::isnan(depth), "a miss either way: spread 0, depth NaN");
+    spread->SetIsoPerturbation(0.0);
+    check(run(1.0, depth) == 0.0, "IsoPerturbation 0 turns the measure off");
   }
 
   messages.ExpectNone(check, "at the end of the test");
