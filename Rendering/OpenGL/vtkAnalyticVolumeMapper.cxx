@@ -36,8 +36,9 @@ bool IsAnalyticBlend(int blend)
 
 // Per block of size^3 cells, (min, max) of the raw texture values of its points, the points
 // on its far faces included (they are corners of its cells); NaN ignored, so a NaN-only block
-// gets an empty range (+inf, -inf). Widened by a few float roundings, because the texture's
-// own conversion of integers to normalised floats may round the other way.
+// gets an empty range (+inf, -inf), and a block with some NaN the whole line (-inf, +inf). Widened
+// by a few float roundings, because the texture's own conversion of integers to normalised floats
+// may round the other way.
 void ComputeBlockRanges(vtkDataArray* scalars,
   const int dims[3],
   int size,
@@ -49,6 +50,7 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> lo(static_cast<size_t>(blocks[0]) * blocks[1] * blocks[2], inf);
   std::vector<double> hi(lo.size(), -inf);
+  std::vector<char> partial(lo.size(), 0);
   for (int k = 0; k < dims[2]; ++k)
   {
     // A point on a block boundary belongs to the blocks on both sides.
@@ -60,10 +62,7 @@ void ComputeBlockRanges(vtkDataArray* scalars,
       {
         const double value = scalars->GetComponent(
           i + static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k), 0);
-        if (std::isnan(value))
-        {
-          continue;
-        }
+        const bool nan = std::isnan(value);
         const double raw = (value - shift) / scale;
         const int bi0 = std::min(i / size, blocks[0] - 1), bi1 = std::max((i - 1) / size, 0);
         for (int bk = std::min(bk0, bk1); bk <= std::max(bk0, bk1); ++bk)
@@ -74,6 +73,11 @@ void ComputeBlockRanges(vtkDataArray* scalars,
             {
               const size_t b =
                 bi + static_cast<size_t>(blocks[0]) * (bj + static_cast<size_t>(blocks[1]) * bk);
+              if (nan)
+              {
+                partial[b] = 1;
+                continue;
+              }
               lo[b] = std::min(lo[b], raw);
               hi[b] = std::max(hi[b], raw);
             }
@@ -85,9 +89,39 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   ranges.resize(2 * lo.size());
   for (size_t b = 0; b < lo.size(); ++b)
   {
+    if (partial[b] && std::isfinite(lo[b]))
+    {
+      // Some cells of the block are NaN (transparent), so a ray may meet none of its values:
+      // its range bounds nothing along a ray (see hovr_blockBound).
+      lo[b] = -inf;
+      hi[b] = inf;
+    }
     const double margin = 1e-6 * std::max(std::abs(lo[b]), std::abs(hi[b]));
     ranges[2 * b] = static_cast<float>(std::isfinite(lo[b]) ? lo[b] - margin : lo[b]);
     ranges[2 * b + 1] = static_cast<float>(std::isfinite(hi[b]) ? hi[b] + margin : hi[b]);
+  }
+}
+
+// The 4 corners in x and y of each point of a slice, x fastest (see UpdateCornerTexture).
+template <typename T, typename Convert>
+void PackCorners(vtkDataArray* scalars, const int dims[3], Convert convert, std::vector<T>& out)
+{
+  const vtkIdType nx = dims[0], ny = dims[1];
+  out.resize(static_cast<size_t>(nx - 1) * (ny - 1) * dims[2] * 4);
+  T* texel = out.data();
+  for (int k = 0; k < dims[2]; ++k)
+  {
+    for (vtkIdType j = 0; j + 1 < ny; ++j)
+    {
+      const vtkIdType row = nx * (j + ny * k);
+      for (vtkIdType i = 0; i + 1 < nx; ++i, texel += 4)
+      {
+        texel[0] = convert(scalars->GetComponent(row + i, 0));
+        texel[1] = convert(scalars->GetComponent(row + i + 1, 0));
+        texel[2] = convert(scalars->GetComponent(row + nx + i, 0));
+        texel[3] = convert(scalars->GetComponent(row + nx + i + 1, 0));
+      }
+    }
   }
 }
 }
@@ -96,6 +130,7 @@ void ComputeBlockRanges(vtkDataArray* scalars,
 vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
   : BlockTexture(vtkTextureObject::New())
   , RayModel(vtkCameraRayModel::New())
+  , CornerTexture(vtkTextureObject::New())
 {
 }
 
@@ -104,6 +139,7 @@ vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
 {
   this->BlockTexture->Delete();
   this->RayModel->Delete();
+  this->CornerTexture->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -180,10 +216,83 @@ bool vtkAnalyticVolumeMapper::UpdateBlockRanges(vtkRenderer* ren,
   }
   this->BlockTexture->SetMinificationFilter(vtkTextureObject::Nearest);
   this->BlockTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+
   this->BlockTextureMemorySize = static_cast<vtkIdType>(ranges.size()) * sizeof(float);
   this->BlockScalars = scalars;
   this->BlockBuiltSize = this->BlockSize;
   this->BlockBuildTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
+  vtkDataArray* scalars,
+  const int dims[3],
+  double scale,
+  double shift)
+{
+  if (this->CornerScalars == scalars && this->CornerBuildTime > scalars->GetMTime() &&
+    this->CornerTexture->GetHandle())
+  {
+    return true;
+  }
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  // Texel (i, j, k), i < nx - 1, j < ny - 1, holds the points (i, j), (i + 1, j), (i, j + 1)
+  // and (i + 1, j + 1) of slice k: a cell's 8 corners are 2 fetches instead of 8. 8- and
+  // 16-bit unsigned data keep their type (the normalised values equal those of VTK's own
+  // texture); other types are stored as the float raw values of GetTextureValueMapping.
+  const int type = scalars->GetDataType();
+  const size_t texels = static_cast<size_t>(dims[0] - 1) * (dims[1] - 1) * dims[2];
+  this->CornerTexture->ReleaseGraphicsResources(context);
+  this->CornerTexture->SetContext(context);
+  this->CornerTexture->SetFormat(GL_RGBA);
+  bool created = false;
+  size_t bytes = 0;
+  if (type == VTK_UNSIGNED_CHAR)
+  {
+    std::vector<unsigned char> packed;
+    PackCorners(
+      scalars, dims, [](double v) { return static_cast<unsigned char>(v); }, packed);
+    this->CornerTexture->SetInternalFormat(GL_RGBA8);
+    this->CornerTexture->SetDataType(GL_UNSIGNED_BYTE);
+    created = this->CornerTexture->Create3DFromRaw(
+      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_CHAR, packed.data());
+    bytes = texels * 4;
+  }
+  else if (type == VTK_UNSIGNED_SHORT)
+  {
+    std::vector<unsigned short> packed;
+    PackCorners(
+      scalars, dims, [](double v) { return static_cast<unsigned short>(v); }, packed);
+    this->CornerTexture->SetInternalFormat(GL_RGBA16);
+    this->CornerTexture->SetDataType(GL_UNSIGNED_SHORT);
+    created = this->CornerTexture->Create3DFromRaw(
+      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_SHORT, packed.data());
+    bytes = texels * 8;
+  }
+  else
+  {
+    std::vector<float> packed;
+    PackCorners(
+      scalars, dims, [=](double v) { return static_cast<float>((v - shift) / scale); }, packed);
+    this->CornerTexture->SetInternalFormat(GL_RGBA32F);
+    this->CornerTexture->SetDataType(GL_FLOAT);
+    created = this->CornerTexture->Create3DFromRaw(
+      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_FLOAT, packed.data());
+    bytes = texels * 16;
+  }
+  if (!created)
+  {
+    vtkErrorMacro("Could not create the " << dims[0] - 1 << " x " << dims[1] - 1 << " x " << dims[2]
+                                          << " corner texture.");
+    this->CornerTextureMemorySize = 0;
+    return false;
+  }
+  this->CornerTexture->SetMinificationFilter(vtkTextureObject::Nearest);
+  this->CornerTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  this->CornerTextureMemorySize = static_cast<vtkIdType>(bytes);
+  this->CornerScalars = scalars;
+  this->CornerBuildTime.Modified();
   return true;
 }
 
@@ -194,6 +303,10 @@ void vtkAnalyticVolumeMapper::ActivateExtensionTextures()
   {
     this->BlockTexture->Activate();
   }
+  if (this->Method == ANALYTIC && this->CornerPacking)
+  {
+    this->CornerTexture->Activate();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -203,14 +316,21 @@ void vtkAnalyticVolumeMapper::DeactivateExtensionTextures()
   {
     this->BlockTexture->Deactivate();
   }
+  if (this->Method == ANALYTIC && this->CornerPacking)
+  {
+    this->CornerTexture->Deactivate();
+  }
 }
 
 //------------------------------------------------------------------------------
 void vtkAnalyticVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->BlockTexture->ReleaseGraphicsResources(window);
+  this->CornerTexture->ReleaseGraphicsResources(window);
   this->BlockScalars = nullptr;
+  this->CornerScalars = nullptr;
   this->BlockTextureMemorySize = 0;
+  this->CornerTextureMemorySize = 0;
 }
 
 //------------------------------------------------------------------------------
@@ -321,6 +441,15 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   {
     return DrawNothing;
   }
+  if (this->Method == ANALYTIC && this->CornerPacking &&
+    !this->UpdateCornerTexture(ren, scalars, dims, scale, shift))
+  {
+    return DrawNothing;
+  }
+  if (this->Method != ANALYTIC || !this->CornerPacking)
+  {
+    this->CornerTextureMemorySize = 0;
+  }
   if (this->Method == ANALYTIC)
   {
     this->UpdateRayFrame(ren, vol);
@@ -332,7 +461,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
 
   std::ostringstream key;
   key << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
-      << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity;
+      << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity << " "
+      << this->CornerPacking;
   if (key.str() != this->ShaderKey)
   {
     this->ShaderKey = key.str();
@@ -353,7 +483,8 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
            << "#define HOVR_ISO_COUNT " << std::max<size_t>(this->IsoRaw.size(), 1) << "\n"
            << "#define HOVR_SHADE " << (vol->GetProperty()->GetShade(0) ? 1 : 0) << "\n"
            << "#define HOVR_OUTPUT " << this->OutputQuantity << "\n"
-           << "#define HOVR_BLOCK " << this->BlockSize << "\n";
+           << "#define HOVR_BLOCK " << this->BlockSize << "\n"
+           << "#define HOVR_PACKED " << (this->CornerPacking ? 1 : 0) << "\n";
   bool ok = true;
   if (this->Method == ANALYTIC)
   {
@@ -436,6 +567,10 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   {
     program->SetUniformi("hovr_blockRange", this->BlockTexture->GetTextureUnit());
   }
+  if (this->CornerPacking)
+  {
+    program->SetUniformi("hovr_corners", this->CornerTexture->GetTextureUnit());
+  }
   if (this->BlendMode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
     program->SetUniform1fv(
@@ -455,5 +590,7 @@ void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OutputQuantity: " << this->OutputQuantity << "\n";
   os << indent << "BlockSize: " << this->BlockSize << "\n";
   os << indent << "BlockTextureMemorySize: " << this->BlockTextureMemorySize << "\n";
+  os << indent << "CornerPacking: " << this->CornerPacking << "\n";
+  os << indent << "CornerTextureMemorySize: " << this->CornerTextureMemorySize << "\n";
   os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
 }

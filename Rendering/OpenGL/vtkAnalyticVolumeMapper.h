@@ -109,6 +109,24 @@ public:
    */
   vtkGetMacro(BlockTextureMemorySize, vtkIdType);
 
+  ///@{
+  /**
+   * Read each cell's 8 corners with 2 texture fetches instead of 8, from a second copy of the
+   * volume holding 4 points per texel (the point and its neighbours in x, y and both). Costs
+   * 4 values per point of GPU memory (in the data's type for 8- and 16-bit unsigned scalars,
+   * else float: 4, 8 or 16 bytes per point) for ~25% less time per analytic frame on
+   * llvmpipe. The image is the same either way. Initial value is on.
+   */
+  vtkSetMacro(CornerPacking, bool);
+  vtkGetMacro(CornerPacking, bool);
+  vtkBooleanMacro(CornerPacking, bool);
+  ///@}
+
+  /**
+   * Bytes of GPU memory of the packed-corner texture (0 when CornerPacking is off).
+   */
+  vtkGetMacro(CornerTextureMemorySize, vtkIdType);
+
 protected:
   vtkAnalyticVolumeMapper();
   ~vtkAnalyticVolumeMapper() override;
@@ -124,6 +142,13 @@ protected:
 
   // Build and upload the block ranges of these scalars unless they are current.
   bool UpdateBlockRanges(vtkRenderer* ren,
+    vtkDataArray* scalars,
+    const int dims[3],
+    double scale,
+    double shift);
+
+  // Upload the cells' corners packed 4 per texel (see the .cxx).
+  bool UpdateCornerTexture(vtkRenderer* ren,
     vtkDataArray* scalars,
     const int dims[3],
     double scale,
@@ -152,6 +177,11 @@ protected:
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
   vtkCameraRayModel* RayModel;
+  bool CornerPacking = true;
+  vtkTextureObject* CornerTexture;
+  vtkIdType CornerTextureMemorySize = 0;
+  vtkTimeStamp CornerBuildTime;
+  vtkDataArray* CornerScalars = nullptr; // not referenced: only compared
   int RayFrameInUse = 0;
   float RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
   float RayPixelCentre[2] = { 0.0f, 0.0f };

@@ -8,8 +8,8 @@
 // whose range holds an isovalue, and the maximum is the largest end point or interior
 // extremum of any cell (section 9).
 //
-// Samples are trilinear interpolations of the 8 corner voxels (texelFetch), computed in
-// float: hardware filtering weights have 8 bits on common GPUs and on llvmpipe, which would
+// Samples are trilinear interpolations of the 8 corner voxels (texelFetch: 2 fetches of a
+// texture packing 4 points per texel, or 8 of VTK's volume texture), computed in float: hardware filtering weights have 8 bits on common GPUs and on llvmpipe, which would
 // move the surface by up to 1/256 of a voxel. The corner range of a cell bounds the
 // interpolant, so cells whose range cannot hold an isovalue (or beat the current maximum) are
 // skipped before any sample is computed.
@@ -21,6 +21,7 @@
 //   HOVR_OUTPUT     0 colour, 1 hit position (grid index, w = 1 on a hit), 2 extremum (data
 //                   units in x, w = 1 where the ray meets the volume)
 //   HOVR_BLOCK      cells per block edge of hovr_blockRange (0: no block skipping)
+//   HOVR_PACKED     1 when the corners come packed 4 per texel from hovr_corners
 
 // hovr_rawToData, hovr_output and hovr_textureToIndex: hovrAnalyticCommon.glsl.
 #if HOVR_BLOCK
@@ -53,6 +54,15 @@ uniform int hovr_rayPerspective;
 vec4 hovr_lower;
 vec4 hovr_upper;
 
+#if HOVR_PACKED
+// Texel (i, j, k) holds the points (i, j, k), (i + 1, j, k), (i, j + 1, k), (i + 1, j + 1, k).
+uniform sampler3D hovr_corners;
+void hovr_fetchCorners(ivec3 c)
+{
+  hovr_lower = texelFetch(hovr_corners, c, 0);
+  hovr_upper = texelFetch(hovr_corners, c + ivec3(0, 0, 1), 0);
+}
+#else
 void hovr_fetchCorners(ivec3 c)
 {
   hovr_lower = vec4(texelFetch(in_volume[0], c, 0).r, texelFetch(in_volume[0], c + ivec3(1, 0, 0), 0).r,
@@ -61,6 +71,8 @@ void hovr_fetchCorners(ivec3 c)
     texelFetch(in_volume[0], c + ivec3(1, 0, 1), 0).r, texelFetch(in_volume[0], c + ivec3(0, 1, 1), 0).r,
     texelFetch(in_volume[0], c + ivec3(1, 1, 1), 0).r);
 }
+#endif
+
 
 // Trilinear interpolation of the corners at local coordinates u in [0, 1]^3.
 float hovr_trilinear(vec3 u)
@@ -162,6 +174,123 @@ float hovr_transferCoord(float raw)
   return raw * in_volume_scale[0].r + in_volume_bias[0].r;
 }
 
+#if HOVR_BLEND != 5
+// Section 9: the extremum of the interpolant over the segment ua -> ub of the cell whose
+// corners are loaded: the larger (smaller) end point or interior extremum of its cubic.
+float hovr_segmentExtremum(vec3 ua, vec3 ub)
+{
+  vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
+    hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
+  vec2 critical = hovr_criticalPoints(hovr_cubic(f));
+  float c1 = critical.x < 1.0 ? hovr_trilinear(mix(ua, ub, critical.x)) : f.w;
+  float c2 = critical.y < 1.0 ? hovr_trilinear(mix(ua, ub, critical.y)) : f.w;
+#if HOVR_BLEND == 1
+  return max(max(f.x, f.w), max(c1, c2));
+#else
+  return min(min(f.x, f.w), min(c1, c2));
+#endif
+}
+#endif
+
+#if HOVR_BLOCK && HOVR_BLEND != 5
+// Before the cell walk, two values the extremum is known to reach, so that the walk can skip
+// every block that cannot beat them from the first block on, instead of only those after the
+// running extremum has grown. One pass over the blocks (one fetch each, no cell work):
+//   - the field in every block the ray crosses lies within the block's range, so the maximum
+//     is at least the largest block minimum along the ray (the minimum at most the smallest
+//     block maximum): returned. Blocks with NaN cells have the range (-inf, +inf) and empty
+//     ones min > max: they bound nothing; -1e30 (MIP) or 1e30 (MinIP) when none does;
+//   - the exact extremum of the ray's cells in the block of largest maximum (smallest
+//     minimum), where it usually lies: exact and found, and that block in doneBlock.
+float hovr_blockBound(vec3 entry, vec3 dir, vec3 inv, bvec3 still, float span, ivec3 dims,
+  out ivec3 doneBlock, inout float exact, inout bool found)
+{
+  ivec3 blocks = textureSize(hovr_blockRange, 0);
+  ivec3 iStep = ivec3(sign(dir));
+  // The same integer traversal as the cells', on planes at multiples of HOVR_BLOCK.
+  vec3 eb = entry / float(HOVR_BLOCK);
+  ivec3 iNext = ivec3(mix(floor(eb), ceil(eb), lessThan(dir, vec3(0.0)))) + iStep;
+#if HOVR_BLEND == 1
+  float bound = -1e30;
+#else
+  float bound = 1e30;
+#endif
+  // The block most likely to hold the extremum (largest maximum, smallest minimum) and where
+  // the ray crosses it.
+  float promise = bound;
+  vec3 bestIn = entry;
+  float bestOut = -1.0;
+  vec3 pIn = entry;
+  doneBlock = ivec3(-1);
+  int guard = blocks.x + blocks.y + blocks.z + 3;
+  for (int n = 0; n < guard; ++n)
+  {
+    vec3 dNext = mix((vec3(iNext * HOVR_BLOCK) - entry) * inv, vec3(1e30), still);
+    float d = min(min(dNext.x, dNext.y), dNext.z);
+    bvec3 crossed = lessThanEqual(dNext, vec3(d));
+    ivec3 block = clamp(iNext - max(iStep, ivec3(0)), ivec3(0), blocks - ivec3(1));
+    vec2 range = texelFetch(hovr_blockRange, block, 0).rg;
+    if (range.x <= range.y)
+    {
+#if HOVR_BLEND == 1
+      bound = max(bound, range.x);
+      bool promising = range.y > promise && range.y < 1e30;
+      promise = promising ? range.y : promise;
+#else
+      bound = min(bound, range.y);
+      bool promising = range.x < promise && range.x > -1e30;
+      promise = promising ? range.x : promise;
+#endif
+      bestIn = promising ? pIn : bestIn;
+      doneBlock = promising ? block : doneBlock;
+      bestOut = promising ? min(d, span) : bestOut;
+    }
+    if (d >= span)
+    {
+      break;
+    }
+    pIn = mix(entry + d * dir, vec3(iNext * HOVR_BLOCK), crossed);
+    iNext += iStep * ivec3(crossed);
+  }
+  if (bestOut > 0.0)
+  {
+    ivec3 lastCell = dims - ivec3(2);
+    vec3 pe = clamp(bestIn, vec3(0.0), vec3(dims - ivec3(1)));
+    ivec3 cNext = ivec3(mix(floor(pe), ceil(pe), lessThan(dir, vec3(0.0)))) + iStep;
+    for (int n = 0; n < 3 * HOVR_BLOCK + 3; ++n)
+    {
+      vec3 dNext = mix((vec3(cNext) - entry) * inv, vec3(1e30), still);
+      float d = min(min(dNext.x, dNext.y), dNext.z);
+      bvec3 crossed = lessThanEqual(dNext, vec3(d));
+      bool leaving = d >= bestOut;
+      vec3 px = leaving ? entry + bestOut * dir : mix(entry + d * dir, vec3(cNext), crossed);
+      ivec3 cell = clamp(cNext - max(iStep, ivec3(0)), ivec3(0), lastCell);
+      hovr_fetchCorners(cell);
+      vec4 lo4 = min(hovr_lower, hovr_upper);
+      vec4 hi4 = max(hovr_lower, hovr_upper);
+      if (!isnan(dot(lo4 + hi4, vec4(1.0))))
+      {
+        vec3 c = vec3(cell);
+        float candidate = hovr_segmentExtremum(clamp(pe - c, 0.0, 1.0), clamp(px - c, 0.0, 1.0));
+#if HOVR_BLEND == 1
+        exact = found ? max(exact, candidate) : candidate;
+#else
+        exact = found ? min(exact, candidate) : candidate;
+#endif
+        found = true;
+      }
+      if (leaving)
+      {
+        break;
+      }
+      cNext += iStep * ivec3(crossed);
+      pe = px;
+    }
+  }
+  return bound;
+}
+#endif
+
 // Walks the whole ray; called once, where VTK initialises its sampling loop.
 void hovr_analyticRay()
 {
@@ -222,8 +351,19 @@ void hovr_analyticRay()
     highestIso = max(highestIso, hovr_isoRaw[i]);
   }
 #else
+  // extreme: the exact extremum of the cells evaluated so far (when found). Blocks and cells
+  // that cannot beat it are skipped, and so are those that stay strictly below (above) the
+  // block bound, which the answer reaches.
   bool found = false;
   float extreme = 0.0;
+#if HOVR_BLOCK
+  ivec3 doneBlock;
+  float bound = hovr_blockBound(entry, dir, inv, still, span, dims, doneBlock, extreme, found);
+#elif HOVR_BLEND == 1
+  float bound = -1e30;
+#else
+  float bound = 1e30;
+#endif
 #endif
   int guard = 4 * (dims.x + dims.y + dims.z);
   for (int n = 0; n < guard; ++n)
@@ -243,9 +383,11 @@ void hovr_analyticRay()
       skip = skip && !(hovr_isoRaw[i] >= blockRange.x && hovr_isoRaw[i] <= blockRange.y);
     }
 #elif HOVR_BLEND == 1
-    bool skip = found ? blockRange.y <= extreme : blockRange.x > blockRange.y;
+    bool skip = blockRange.y < bound || (found && blockRange.y <= extreme) || block == doneBlock ||
+      blockRange.x > blockRange.y;
 #else
-    bool skip = found ? blockRange.x >= extreme : blockRange.x > blockRange.y;
+    bool skip = blockRange.x > bound || (found && blockRange.x >= extreme) || block == doneBlock ||
+      blockRange.x > blockRange.y;
 #endif
     if (skip)
     {
@@ -319,22 +461,16 @@ void hovr_analyticRay()
     }
 #else
 #if HOVR_BLEND == 1
-    bool better = !found || hi > extreme;
+    bool better = hi >= bound && (!found || hi > extreme);
 #else
-    bool better = !found || lo < extreme;
+    bool better = lo <= bound && (!found || lo < extreme);
 #endif
     if (better && !isnan(lo + hi))
     {
-      vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
-        hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
-      vec2 critical = hovr_criticalPoints(hovr_cubic(f));
-      float c1 = critical.x < 1.0 ? hovr_trilinear(mix(ua, ub, critical.x)) : f.w;
-      float c2 = critical.y < 1.0 ? hovr_trilinear(mix(ua, ub, critical.y)) : f.w;
+      float candidate = hovr_segmentExtremum(ua, ub);
 #if HOVR_BLEND == 1
-      float candidate = max(max(f.x, f.w), max(c1, c2));
       extreme = found ? max(extreme, candidate) : candidate;
 #else
-      float candidate = min(min(f.x, f.w), min(c1, c2));
       extreme = found ? min(extreme, candidate) : candidate;
 #endif
       found = true;

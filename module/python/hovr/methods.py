@@ -153,7 +153,10 @@ class AnalyticMethod(Method):
         return mapper
 
     def statistics(self, mapper):
-        return {"block_gpu_bytes": mapper.GetBlockTextureMemorySize()} if self.analytic else {}
+        if not self.analytic:
+            return {}
+        return {"block_gpu_bytes": mapper.GetBlockTextureMemorySize(),
+                "corner_gpu_bytes": mapper.GetCornerTextureMemorySize()}
 
 
 class ReferenceMethod(Method):
