@@ -27,7 +27,6 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkVolumeReferenceIntegrator);
-vtkCxxSetObjectMacro(vtkVolumeReferenceIntegrator, VolumeProperty, vtkVolumeProperty);
 
 namespace
 {
@@ -396,104 +395,10 @@ public:
 }
 
 //------------------------------------------------------------------------------
-vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator()
-  : RayModel(vtkCameraRayModel::New())
-  , Sampler(vtkVolumeTransferFunctionSampler::New())
-{
-  this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(1);
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
-  vtkErrorForwarder::Forward(this->RayModel, this);
-  vtkErrorForwarder::Forward(this->Sampler, this);
-}
+vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator() = default;
 
 //------------------------------------------------------------------------------
-vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator()
-{
-  this->SetVolumeProperty(nullptr);
-  this->RayModel->Delete();
-  this->Sampler->Delete();
-}
-
-//------------------------------------------------------------------------------
-void vtkVolumeReferenceIntegrator::SetCamera(vtkCamera* camera)
-{
-  this->RayModel->SetCamera(camera);
-  this->Modified();
-}
-
-//------------------------------------------------------------------------------
-vtkCamera* vtkVolumeReferenceIntegrator::GetCamera()
-{
-  return this->RayModel->GetCamera();
-}
-
-//------------------------------------------------------------------------------
-void vtkVolumeReferenceIntegrator::SetImageSize(int w, int h)
-{
-  const int* size = this->RayModel->GetImageSize();
-  if (size[0] != w || size[1] != h)
-  {
-    this->RayModel->SetImageSize(w, h);
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-int* vtkVolumeReferenceIntegrator::GetImageSize()
-{
-  return this->RayModel->GetImageSize();
-}
-
-//------------------------------------------------------------------------------
-vtkMTimeType vtkVolumeReferenceIntegrator::GetMTime()
-{
-  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->RayModel->GetMTime());
-  if (this->VolumeProperty)
-  {
-    t = std::max(t, this->VolumeProperty->GetMTime());
-    this->Sampler->SetFromVolumeProperty(this->VolumeProperty);
-    t = std::max(t, this->Sampler->GetMTime());
-  }
-  return t;
-}
-
-//------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::RequestInformation(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
-{
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const int* size = this->RayModel->GetImageSize();
-  int extent[6] = { 0, std::max(size[0], 1) - 1, 0, std::max(size[1], 1) - 1, 0, 0 };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
-  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 4);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkVolumeReferenceIntegrator::RequestUpdateExtent(vtkInformation*,
-  vtkInformationVector** inputVector,
-  vtkInformationVector*)
-{
-  // Every ray may cross the whole volume.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
-    6);
-  return 1;
-}
+vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator() = default;
 
 //------------------------------------------------------------------------------
 int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
@@ -503,15 +408,9 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   this->NumberOfSamples = 0;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
+  vtkFloatArray* rgba = this->InitializeOutput(output);
   const int* size = this->RayModel->GetImageSize();
   const int width = std::max(size[0], 1), height = std::max(size[1], 1);
-  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
-  vtkNew<vtkFloatArray> rgba;
-  rgba->SetName("RGBA");
-  rgba->SetNumberOfComponents(4);
-  rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
-  rgba->FillValue(0.0f);
-  output->GetPointData()->SetScalars(rgba);
   const bool iso = this->BlendMode == ISOSURFACE_BLEND;
   const bool projection =
     this->BlendMode == MAXIMUM_INTENSITY_BLEND || this->BlendMode == MINIMUM_INTENSITY_BLEND;
@@ -541,34 +440,9 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   }
 
   // Validate; on error the output stays a transparent image of the requested size.
-  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
-  if (!input || !scalars)
-  {
-    vtkErrorMacro("The input has no point scalars to render.");
-    return 1;
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    vtkErrorMacro("Only single-component scalars can be rendered; array '"
-      << (scalars->GetName() ? scalars->GetName() : "") << "' has "
-      << scalars->GetNumberOfComponents() << " components.");
-    return 1;
-  }
   int dims[3];
-  input->GetDimensions(dims);
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
-  {
-    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
-      << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
-    return 1;
-  }
-  if (!this->VolumeProperty)
-  {
-    vtkErrorMacro("No volume property (transfer functions) was given.");
-    return 1;
-  }
-  this->Sampler->SetFromVolumeProperty(this->VolumeProperty);
-  if (!this->Sampler->Prepare() || !this->RayModel->Prepare())
+  vtkDataArray* scalars = this->PrepareFrame(input, inputVector, dims);
+  if (!scalars)
   {
     return 1;
   }
@@ -656,9 +530,6 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
 void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
-  os << indent << "ImageSize: " << this->RayModel->GetImageSize()[0] << " "
-     << this->RayModel->GetImageSize()[1] << "\n";
   os << indent << "BlendMode: " << this->BlendMode << "\n";
   os << indent << "ScalarTolerance: " << this->ScalarTolerance << "\n";
   os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";

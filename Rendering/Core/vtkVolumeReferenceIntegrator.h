@@ -46,44 +46,14 @@
 #define vtkVolumeReferenceIntegrator_h
 
 #include "hovrRenderingCoreModule.h" // For export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkVolumeImageAlgorithm.h"
 
-class vtkCamera;
-class vtkCameraRayModel;
-class vtkVolumeProperty;
-class vtkVolumeTransferFunctionSampler;
-
-class HOVRRENDERINGCORE_EXPORT vtkVolumeReferenceIntegrator : public vtkImageAlgorithm
+class HOVRRENDERINGCORE_EXPORT vtkVolumeReferenceIntegrator : public vtkVolumeImageAlgorithm
 {
 public:
   static vtkVolumeReferenceIntegrator* New();
-  vtkTypeMacro(vtkVolumeReferenceIntegrator, vtkImageAlgorithm);
+  vtkTypeMacro(vtkVolumeReferenceIntegrator, vtkVolumeImageAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /**
-   * Transfer functions and opacity unit distance (component 0). Initial value is nullptr.
-   */
-  virtual void SetVolumeProperty(vtkVolumeProperty*);
-  vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
-  ///@}
-
-  ///@{
-  /**
-   * The camera. Initial value is nullptr.
-   */
-  virtual void SetCamera(vtkCamera*);
-  vtkCamera* GetCamera();
-  ///@}
-
-  ///@{
-  /**
-   * Output image size in pixels. Initial value is 256 x 256.
-   */
-  virtual void SetImageSize(int w, int h);
-  virtual void SetImageSize(const int size[2]) { this->SetImageSize(size[0], size[1]); }
-  int* GetImageSize() VTK_SIZEHINT(2);
-  ///@}
 
   /**
    * Blend modes, with the values of vtkVolumeMapper's.
@@ -145,20 +115,12 @@ public:
    */
   vtkGetMacro(NumberOfSamples, vtkIdType);
 
-  vtkMTimeType GetMTime() override;
-
 protected:
   vtkVolumeReferenceIntegrator();
   ~vtkVolumeReferenceIntegrator() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkVolumeProperty* VolumeProperty = nullptr;
-  vtkCameraRayModel* RayModel;
-  vtkVolumeTransferFunctionSampler* Sampler;
   int BlendMode = COMPOSITE_BLEND;
   double ScalarTolerance = 1.0 / 64.0;
   double TransmittanceCutoff = 1e-7;

@@ -1,0 +1,89 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkVolumeImageAlgorithm
+ * @brief   base of hovr's CPU volume renderers: a volume in, a W x H RGBA image out
+ *
+ * What the CPU renderers share (vtkVolumeReferenceIntegrator, vtkObjectOrderRayCaster): the
+ * volume property and its transfer functions (through vtkVolumeTransferFunctionSampler), the
+ * camera and the pixel rays (vtkCameraRayModel), the output image size, and the checks of the
+ * input. The output is a W x H x 1 image with point data "RGBA" (float, premultiplied colour,
+ * alpha = 1 - transmittance), pixel (i, j) counted from left and bottom, over transparent
+ * black; on an error it stays transparent.
+ */
+#ifndef vtkVolumeImageAlgorithm_h
+#define vtkVolumeImageAlgorithm_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkImageAlgorithm.h"
+
+class vtkCamera;
+class vtkCameraRayModel;
+class vtkDataArray;
+class vtkFloatArray;
+class vtkVolumeProperty;
+class vtkVolumeTransferFunctionSampler;
+
+class HOVRRENDERINGCORE_EXPORT vtkVolumeImageAlgorithm : public vtkImageAlgorithm
+{
+public:
+  vtkTypeMacro(vtkVolumeImageAlgorithm, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Transfer functions and opacity unit distance (component 0). Initial value is nullptr.
+   */
+  virtual void SetVolumeProperty(vtkVolumeProperty*);
+  vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
+  ///@}
+
+  ///@{
+  /**
+   * The camera. Initial value is nullptr.
+   */
+  virtual void SetCamera(vtkCamera*);
+  vtkCamera* GetCamera();
+  ///@}
+
+  ///@{
+  /**
+   * Output image size in pixels. Initial value is 256 x 256.
+   */
+  virtual void SetImageSize(int w, int h);
+  virtual void SetImageSize(const int size[2]) { this->SetImageSize(size[0], size[1]); }
+  int* GetImageSize() VTK_SIZEHINT(2);
+  ///@}
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkVolumeImageAlgorithm();
+  ~vtkVolumeImageAlgorithm() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /**
+   * Size the output to the image size with a transparent "RGBA" array, and return that array.
+   */
+  vtkFloatArray* InitializeOutput(vtkImageData* output);
+
+  /**
+   * The input's scalars to render, after checking them and preparing the sampler and the
+   * rays: nullptr after an error (no input or scalars, several components, fewer than 2
+   * points along an axis, no volume property, bad transfer functions or camera). dims gets
+   * the grid's point dimensions.
+   */
+  vtkDataArray* PrepareFrame(vtkImageData* input, vtkInformationVector** inputVector, int dims[3]);
+
+  vtkVolumeProperty* VolumeProperty = nullptr;
+  vtkCameraRayModel* RayModel;
+  vtkVolumeTransferFunctionSampler* Sampler;
+
+private:
+  vtkVolumeImageAlgorithm(const vtkVolumeImageAlgorithm&) = delete;
+  void operator=(const vtkVolumeImageAlgorithm&) = delete;
+};
+
+#endif
