@@ -27,7 +27,7 @@ import hovr
 from hovr import bench as hb
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, image_from_array, tf_path
+from hovrtesting import Checker, Messages, image_from_array, tf_path
 
 c = Checker()
 SIZE = (128, 128)
@@ -206,20 +206,6 @@ c.check(mapper.GetBlockSize() == 4 and mapper.GetBlockTextureMemorySize() == 0 a
 
 
 # Bad input, through the mapper itself.
-class Messages:
-    def __init__(self, obj):
-        self.errors, self.warnings = [], []
-        obj.AddObserver(vtkCommand.ErrorEvent, self.on_error)
-        obj.AddObserver(vtkCommand.WarningEvent, self.on_warning)
-
-    def on_error(self, _obj, _event, message):
-        self.errors.append(message)
-
-    def on_warning(self, _obj, _event, message):
-        self.warnings.append(message)
-
-    on_error.CallDataType = "string0"
-    on_warning.CallDataType = "string0"
 
 
 def draw(image, blend, isovalues=(), setup=None):

@@ -90,3 +90,22 @@ class Checker:
             sys.exit(1)
         print("all checks passed")
         sys.exit(0)
+
+
+class Messages:
+    """Collects the error and warning messages a VTK object emits."""
+
+    def __init__(self, obj):
+        from vtkmodules.vtkCommonCore import vtkCommand
+        self.errors, self.warnings = [], []
+        obj.AddObserver(vtkCommand.ErrorEvent, self.on_error)
+        obj.AddObserver(vtkCommand.WarningEvent, self.on_warning)
+
+    def on_error(self, _obj, _event, message):
+        self.errors.append(message)
+
+    def on_warning(self, _obj, _event, message):
+        self.warnings.append(message)
+
+    on_error.CallDataType = "string0"
+    on_warning.CallDataType = "string0"

@@ -64,7 +64,8 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
               "depth_outliers", "grazing_pixels", "disagreements_not_grazing",
               "depth_max_error_not_grazing", "depth_outliers_not_grazing",
-              "extremum_max_error", "extremum_mean_error"]
+              "extremum_max_error", "extremum_mean_error",
+              "nontransparent_cells", "occluded_ratio", "octree_nodes", "cpu_bytes"]
 
 # Part of the reference cache key: bump when the reference's output changes.
 REFERENCE_VERSION = 2
@@ -150,7 +151,7 @@ def _scene_for(spec, base, size):
     if spec.get("camera"):
         camera = hio.read_camera(_expand(spec["camera"], base))
     else:
-        camera = hio.default_camera(image.GetBounds())
+        camera = hio.default_camera(image.GetBounds(), parallel=bool(spec.get("parallel")))
     with open(tf_path, "rb") as stream:
         prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit]
     if spec.get("shade"):
@@ -258,7 +259,7 @@ def _runs_of(spec, config):
     steps = spec.get("steps", config.get("steps", [1]))
     names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
     return [(name, step) for name in names
-            for step in (steps if hm.get_method(name).kind == "gpu" else [min(steps)])]
+            for step in (steps if hm.get_method(name).uses_step else [min(steps)])]
 
 
 def _add_ratios(rows, baseline=None):

@@ -301,15 +301,19 @@ def camera_to_dict(camera):
             "parallel_scale": camera.GetParallelScale(), "view_angle": camera.GetViewAngle()}
 
 
-def default_camera(bounds, direction=(1.0, -1.6, 0.9), view_up=(0.0, 0.0, 1.0), angle=30.0):
-    """An oblique perspective camera that frames the bounding sphere of ``bounds``."""
+def default_camera(bounds, direction=(1.0, -1.6, 0.9), view_up=(0.0, 0.0, 1.0), angle=30.0,
+                   parallel=False):
+    """An oblique perspective camera that frames the bounding sphere of ``bounds``; with
+    ``parallel``, the same view in parallel projection (scale: the sphere's radius)."""
     center = [(bounds[2 * a] + bounds[2 * a + 1]) / 2.0 for a in range(3)]
     radius = 0.5 * math.sqrt(sum((bounds[2 * a + 1] - bounds[2 * a]) ** 2 for a in range(3)))
     norm = math.sqrt(sum(d * d for d in direction))
     distance = radius / math.sin(math.radians(angle) / 2.0) * 1.02
     position = [c + distance * d / norm for c, d in zip(center, direction)]
     return camera_from_dict({"position": position, "focal_point": center,
-                             "view_up": list(view_up), "view_angle": angle})
+                             "view_up": list(view_up), "view_angle": angle,
+                             "parallel_projection": bool(parallel),
+                             "parallel_scale": radius * 1.02})
 
 
 def write_vti(image, path):

@@ -94,9 +94,12 @@ class _Errors:
 
 
 class Method:
-    """A rendering method: its name, what it is, and how it renders."""
+    """A rendering method: its name, what it is, and how it renders. ``kind`` "gpu": a
+    vtkVolumeMapper drawn in the shared window and read back from it (VTK's CPU mappers too);
+    "cpu": an image algorithm computed off-screen (``render_offline``)."""
 
     kind = "gpu"
+    uses_step = True
     description = ""
     blend = "composite"  # the blend mode the method renders; None: any (the reference)
 
@@ -159,9 +162,56 @@ class AnalyticMethod(Method):
                 "corner_gpu_bytes": mapper.GetCornerTextureMemorySize()}
 
 
+class FixedPointMethod(Method):
+    """VTK's CPU ray caster, drawn in the window like the GPU mappers."""
+
+    def make_mapper(self):
+        from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+        mapper = vtkFixedPointVolumeRayCastMapper()
+        mapper.SetAutoAdjustSampleDistances(0)
+        mapper.SetLockSampleDistanceToInputSpacing(0)
+        mapper.SetImageSampleDistance(1.0)
+        return mapper
+
+
 class ReferenceMethod(Method):
     kind = "cpu"
+    uses_step = False
     blend = None
+
+    def render_offline(self, renderer, scene, step, repeat):
+        return renderer._render_reference(scene, repeat)
+
+
+class ObjectOrderMethod(Method):
+    """vtkObjectOrderRayCaster: object-order ray casting on the CPU (parallel projection)."""
+
+    kind = "cpu"
+
+    def render_offline(self, renderer, scene, step, repeat):
+        caster = core.vtkObjectOrderRayCaster()
+        caster.SetInputData(scene.image)
+        caster.SetVolumeProperty(scene.prop)
+        caster.SetCamera(scene.camera)
+        caster.SetImageSize(*scene.size)
+        caster.SetSampleDistance(scene.step_length(step))
+        times = []
+        for _ in range(max(repeat, 0) + 1):  # the first update also builds the octree
+            caster.Modified()
+            errors = _Errors(caster)
+            start = time.perf_counter()
+            caster.Update()
+            times.append(1000.0 * (time.perf_counter() - start))
+            errors.close()
+        image = vtkImageData()
+        image.DeepCopy(caster.GetOutput())
+        in_view = caster.ComputeNonTransparentCells()
+        rendered = caster.GetNumberOfNonTransparentCells()
+        return RenderResult(image, times[1:] if repeat > 0 else [], caster.GetNumberOfSamples(),
+                            {"nontransparent_cells": rendered,
+                             "occluded_ratio": 1.0 - rendered / in_view if in_view > 0 else 0.0,
+                             "octree_nodes": caster.GetNumberOfNodesVisited(),
+                             "cpu_bytes": caster.GetMemorySize()})
 
 
 METHODS = {m.name: m for m in (
@@ -186,6 +236,9 @@ METHODS = {m.name: m for m in (
                    "mip", False),
     AnalyticMethod("minip-stock", "VTK's sampled minimum intensity projection at the step",
                    "minip", False),
+    ObjectOrderMethod("objectorder", "object-order ray casting on the CPU: min-max octree, "
+                      "hidden volume removal, parallel projection (vtkObjectOrderRayCaster)"),
+    FixedPointMethod("fixedpoint", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper)"),
 )}
 
 
@@ -232,7 +285,7 @@ class Renderer:
         method = get_method(method) if isinstance(method, str) else method
         if method.kind == "cpu":
             scene.step_length(step)  # validates the step
-            return self._render_reference(scene, repeat)
+            return method.render_offline(self, scene, step, repeat)
         return self.render_interleaved([(method, step)], scene, repeat)[0]
 
     def render_interleaved(self, runs, scene, repeat=0):

@@ -1,0 +1,674 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkObjectOrderRayCaster.h"
+
+#include "vtkCamera.h"
+#include "vtkCameraRayModel.h"
+#include "vtkDataArray.h"
+#include "vtkDataArrayRange.h"
+#include "vtkFloatArray.h"
+#include "vtkHierarchicalOcclusionMap.h"
+#include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMinMaxOctree.h"
+#include "vtkObjectFactory.h"
+#include "vtkPreIntegrationTable.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkVolumeProperty.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+vtkStandardNewMacro(vtkObjectOrderRayCaster);
+
+namespace
+{
+constexpr int BrickBits = 5; // bricks of 32^3 points
+constexpr int BrickSide = 1 << BrickBits;
+
+// Spread the 5 low bits of v to every third bit, from bit offset (section 4.3.4's interleaving
+// of the coordinates inside a brick: z4 y4 x4 ... z0 y0 x0).
+uint32_t Spread(int v, int offset)
+{
+  uint32_t r = 0;
+  for (int b = 0; b < BrickBits; ++b)
+  {
+    r |= static_cast<uint32_t>((v >> b) & 1) << (3 * b + offset);
+  }
+  return r;
+}
+}
+
+namespace
+{
+// Everything the tiles share, read-only during a frame.
+class Frame
+{
+public:
+  // The volume, copied into Morton-ordered float bricks; rebuilt when the scalars change.
+  vtkDataArray* Scalars = nullptr; // not referenced: only compared
+  vtkMTimeType ScalarsTime = 0;
+  int Dims[3] = { 0, 0, 0 };
+  int Cells[3] = { 0, 0, 0 };
+  int BrickCount[3] = { 0, 0, 0 };
+  std::vector<float> Bricks;
+  uint32_t SpreadTable[3][BrickSide];
+
+  // The frame: pixel (i, j)'s ray is O + i EX + j EY + t D in grid index, t the world
+  // distance from the camera plane; (u, v) = Inverse rows 0-1 applied to (p - O) project a
+  // grid point to pixel coordinates.
+  double O[3], EX[3], EY[3], D[3], InvD[3];
+  bool Still[3];
+  double Inverse[3][3];
+  int Width = 0, Height = 0;
+  double Step = 1.0;
+  bool Interleaved = true;
+  bool Removal = true;
+  float Threshold = 0.999f;
+  // Classification: RGBA per entry (alpha for one step), entries at S0 + e / InvStep.
+  std::vector<float> Table;
+  int Entries = 0;
+  double S0 = 0.0, InvStep = 1.0;
+  std::vector<int> VisiblePrefix; // visible bins before bin b
+  // Per pixel: where its ray enters and leaves the grid's box (t), empty when it misses.
+  std::vector<double> Chords;
+  bool FrameReady = false;
+
+  Frame()
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int v = 0; v < BrickSide; ++v)
+      {
+        this->SpreadTable[a][v] = Spread(v, a);
+      }
+    }
+  }
+
+  size_t Address(int x, int y, int z) const
+  {
+    const size_t brick = (x >> BrickBits) +
+      static_cast<size_t>(this->BrickCount[0]) *
+        ((y >> BrickBits) + static_cast<size_t>(this->BrickCount[1]) * (z >> BrickBits));
+    return (brick << (3 * BrickBits)) |
+      (this->SpreadTable[0][x & (BrickSide - 1)] | this->SpreadTable[1][y & (BrickSide - 1)] |
+        this->SpreadTable[2][z & (BrickSide - 1)]);
+  }
+
+  void BuildBricks(vtkDataArray* scalars, const int dims[3])
+  {
+    std::copy(dims, dims + 3, this->Dims);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Cells[a] = dims[a] - 1;
+      this->BrickCount[a] = (dims[a] + BrickSide - 1) / BrickSide;
+    }
+    this->Bricks.assign(
+      static_cast<size_t>(this->BrickCount[0]) * this->BrickCount[1] * this->BrickCount[2]
+        << (3 * BrickBits),
+      0.0f);
+    const auto values = vtk::DataArrayValueRange<1>(scalars);
+    vtkSMPTools::For(0,
+      dims[2],
+      [&](vtkIdType k0, vtkIdType k1)
+      {
+        for (int k = static_cast<int>(k0); k < k1; ++k)
+        {
+          for (int j = 0; j < dims[1]; ++j)
+          {
+            const vtkIdType row =
+              static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k);
+            for (int i = 0; i < dims[0]; ++i)
+            {
+              this->Bricks[this->Address(i, j, k)] = static_cast<float>(values[row + i]);
+            }
+          }
+        }
+      });
+  }
+
+  // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z; false when one is NaN.
+  bool Corners(int i, int j, int k, float c[8]) const
+  {
+    bool finite = true;
+    for (int n = 0; n < 8; ++n)
+    {
+      c[n] = this->Bricks[this->Address(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2))];
+      finite = finite && !std::isnan(c[n]);
+    }
+    return finite;
+  }
+
+  // Whether the opacity can be non-zero somewhere in [lo, hi] (conservative: whole bins).
+  bool Visible(double lo, double hi) const
+  {
+    if (!(lo <= hi) || this->Entries < 2)
+    {
+      return false;
+    }
+    const int last = this->Entries - 2;
+    const int b0 = static_cast<int>(
+      std::min(std::max(std::floor((lo - this->S0) * this->InvStep), 0.0), double(last)));
+    const int b1 = static_cast<int>(
+      std::min(std::max(std::floor((hi - this->S0) * this->InvStep), 0.0), double(last)));
+    return this->VisiblePrefix[b1 + 1] - this->VisiblePrefix[b0] > 0;
+  }
+
+  // Pixel rectangle of the box [lo, hi] (grid index) clipped to [x0, x1] x [y0, y1]; false
+  // when empty. Pixel i's ray passes through u = i, so the pixels whose rays can meet the box
+  // lie within its projection's extent.
+  bool Rectangle(const double lo[3], const double hi[3], const int clip[4], int rect[4]) const
+  {
+    double c[3], h[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] = 0.5 * (lo[a] + hi[a]) - this->O[a];
+      h[a] = 0.5 * (hi[a] - lo[a]);
+    }
+    const double u = vtkMath::Dot(this->Inverse[0], c), v = vtkMath::Dot(this->Inverse[1], c);
+    const double hu = std::abs(this->Inverse[0][0]) * h[0] + std::abs(this->Inverse[0][1]) * h[1] +
+      std::abs(this->Inverse[0][2]) * h[2] + 1e-6;
+    const double hv = std::abs(this->Inverse[1][0]) * h[0] + std::abs(this->Inverse[1][1]) * h[1] +
+      std::abs(this->Inverse[1][2]) * h[2] + 1e-6;
+    rect[0] = std::max(static_cast<int>(std::ceil(u - hu)), clip[0]);
+    rect[1] = std::min(static_cast<int>(std::floor(u + hu)), clip[1]);
+    rect[2] = std::max(static_cast<int>(std::ceil(v - hv)), clip[2]);
+    rect[3] = std::min(static_cast<int>(std::floor(v + hv)), clip[3]);
+    return rect[0] <= rect[1] && rect[2] <= rect[3];
+  }
+};
+
+// One tile's walk of the octree: front to back, skipping transparent, off-tile and hidden
+// nodes, sampling every pixel ray through each remaining cell.
+class TileWalker
+{
+public:
+  const Frame& I;
+  const vtkMinMaxOctree* Octree;
+  float* Image; // W x H RGBA
+  std::atomic<unsigned char>* CellMarks;
+  vtkHierarchicalOcclusionMap Occlusion;
+  int Clip[4];  // tile pixels [x0, x1] x [y0, y1]
+  int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
+  bool Render = true;
+  bool Removal = true;
+  vtkIdType Nodes = 0, Samples = 0, Cells = 0;
+
+  TileWalker(const Frame& internals, const vtkMinMaxOctree* octree)
+    : I(internals)
+    , Octree(octree)
+    , Removal(internals.Removal)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->First[a] = internals.D[a] >= 0.0 ? 0 : 1;
+    }
+  }
+
+  void Walk(const int clip[4])
+  {
+    std::copy(clip, clip + 4, this->Clip);
+    this->Occlusion.Initialize(clip[1] - clip[0] + 1, clip[3] - clip[2] + 1);
+    this->Node(this->Octree->GetNumberOfLevels(), 0, 0, 0);
+  }
+
+  void Node(int level, int i, int j, int k)
+  {
+    ++this->Nodes;
+    const int index[3] = { i, j, k };
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = index[a] << level;
+      hi[a] = std::min((index[a] + 1) << level, this->I.Cells[a]);
+    }
+    float corners[8];
+    float range[2];
+    if (level == 0)
+    {
+      if (!this->I.Corners(i, j, k, corners))
+      {
+        return; // NaN: the interpolant is NaN in the whole cell, which is transparent
+      }
+      range[0] = *std::min_element(corners, corners + 8);
+      range[1] = *std::max_element(corners, corners + 8);
+    }
+    else
+    {
+      this->Octree->GetNodeRange(level, i, j, k, range);
+    }
+    if (!this->I.Visible(range[0], range[1]))
+    {
+      return;
+    }
+    int rect[4];
+    if (!this->I.Rectangle(lo, hi, this->Clip, rect))
+    {
+      return;
+    }
+    if (this->Removal &&
+      this->Occlusion.IsRectangleOpaque(rect[0] - this->Clip[0],
+        rect[2] - this->Clip[2],
+        rect[1] - this->Clip[0],
+        rect[3] - this->Clip[2]))
+    {
+      return;
+    }
+    if (level == 0)
+    {
+      if (this->Render)
+      {
+        this->Cell(index, corners, rect);
+      }
+      else
+      {
+        ++this->Cells;
+      }
+      return;
+    }
+    int size[3];
+    this->Octree->GetLevelSize(level - 1, size);
+    for (int dz = 0; dz < 2; ++dz)
+    {
+      const int ck = 2 * k + (dz ^ this->First[2]);
+      if (ck >= size[2])
+      {
+        continue;
+      }
+      for (int dy = 0; dy < 2; ++dy)
+      {
+        const int cj = 2 * j + (dy ^ this->First[1]);
+        if (cj >= size[1])
+        {
+          continue;
+        }
+        for (int dx = 0; dx < 2; ++dx)
+        {
+          const int ci = 2 * i + (dx ^ this->First[0]);
+          if (ci < size[0])
+          {
+            this->Node(level - 1, ci, cj, ck);
+          }
+        }
+      }
+    }
+  }
+
+  // Section 3: every pixel ray through the cell, sampled at its global sample positions
+  // inside the cell's segment [tin, tout).
+  void Cell(const int c[3], const float corners[8], const int rect[4])
+  {
+    const auto& I = this->I;
+    const size_t cell =
+      c[0] + static_cast<size_t>(I.Cells[0]) * (c[1] + static_cast<size_t>(I.Cells[1]) * c[2]);
+    this->CellMarks[cell].store(1, std::memory_order_relaxed);
+    const double step = I.Step;
+    for (int py = rect[2]; py <= rect[3]; ++py)
+    {
+      for (int px = rect[0]; px <= rect[1]; ++px)
+      {
+        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
+        if (this->Occlusion.IsPixelOpaque(lx, ly))
+        {
+          continue;
+        }
+        double o[3];
+        double tin = 0.0, tout = std::numeric_limits<double>::infinity();
+        bool inside = true;
+        for (int a = 0; a < 3; ++a)
+        {
+          o[a] = I.O[a] + px * I.EX[a] + py * I.EY[a];
+          if (I.Still[a])
+          {
+            // A ray in a cell plane belongs to the cell above it (the last cell keeps its
+            // far face), so no sample is taken twice.
+            inside = inside && o[a] >= c[a] &&
+              (o[a] < c[a] + 1 || (c[a] + 1 == I.Cells[a] && o[a] <= c[a] + 1));
+            continue;
+          }
+          // The same expression for a plane in both cells that share it: equal t.
+          const double t1 = (c[a] - o[a]) * I.InvD[a];
+          const double t2 = (c[a] + 1 - o[a]) * I.InvD[a];
+          tin = std::max(tin, std::min(t1, t2));
+          tout = std::min(tout, std::max(t1, t2));
+        }
+        if (!inside || !(tin < tout))
+        {
+          continue;
+        }
+        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
+        const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
+        const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
+        double n = std::ceil((tin - phase) / step);
+        if (phase + n * step < tin)
+        {
+          n += 1.0;
+        }
+        float* pixel = this->Image + 4 * p;
+        for (double t = phase + n * step; t < tout; n += 1.0, t = phase + n * step)
+        {
+          float u[3];
+          for (int a = 0; a < 3; ++a)
+          {
+            u[a] = static_cast<float>(std::min(std::max(o[a] + t * I.D[a] - c[a], 0.0), 1.0));
+          }
+          const float x0 = corners[0] + u[0] * (corners[1] - corners[0]);
+          const float x1 = corners[2] + u[0] * (corners[3] - corners[2]);
+          const float x2 = corners[4] + u[0] * (corners[5] - corners[4]);
+          const float x3 = corners[6] + u[0] * (corners[7] - corners[6]);
+          const float y0 = x0 + u[1] * (x1 - x0);
+          const float y1 = x2 + u[1] * (x3 - x2);
+          const double s = y0 + u[2] * (y1 - y0);
+          // Classification after interpolation, linear between table entries.
+          double e = (s - I.S0) * I.InvStep;
+          e = std::min(std::max(e, 0.0), static_cast<double>(I.Entries - 1));
+          const int e0 = std::min(static_cast<int>(e), I.Entries - 2);
+          const float f = static_cast<float>(e - e0);
+          const float* a0 = I.Table.data() + 4 * e0;
+          float alpha = a0[3] + f * (a0[7] - a0[3]);
+          ++this->Samples;
+          if (alpha <= 0.0f)
+          {
+            continue;
+          }
+          // Each sample stands for the part of the ray closer to it than to its neighbours,
+          // the first one from the box entry on and the last one up to the exit (midpoint
+          // rule with the ends included), so no part of the chord is left out or counted
+          // twice whatever the phase.
+          if (t - step < te || t + step >= tx)
+          {
+            const double from = t - step < te ? te : t - 0.5 * step;
+            const double to = t + step >= tx ? tx : t + 0.5 * step;
+            alpha = static_cast<float>(
+              -std::expm1(std::log1p(-static_cast<double>(alpha)) * (to - from) / step));
+          }
+          const float weight = (1.0f - pixel[3]) * alpha;
+          for (int ch = 0; ch < 3; ++ch)
+          {
+            pixel[ch] += weight * (a0[ch] + f * (a0[ch + 4] - a0[ch]));
+          }
+          pixel[3] += weight;
+          if (pixel[3] >= I.Threshold)
+          {
+            this->Occlusion.SetPixelOpaque(lx, ly);
+            break;
+          }
+        }
+      }
+    }
+  }
+};
+}
+
+class vtkObjectOrderRayCaster::vtkInternals : public Frame
+{
+};
+
+//------------------------------------------------------------------------------
+vtkObjectOrderRayCaster::vtkObjectOrderRayCaster()
+  : Octree(vtkMinMaxOctree::New())
+  , Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkObjectOrderRayCaster::~vtkObjectOrderRayCaster()
+{
+  this->Octree->Delete();
+  delete this->Internals;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkObjectOrderRayCaster::GetMemorySize() const
+{
+  return static_cast<vtkIdType>(this->Internals->Bricks.size() * sizeof(float)) +
+    this->Octree->GetMemorySize();
+}
+
+//------------------------------------------------------------------------------
+int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  vtkInternals& I = *this->Internals;
+  I.FrameReady = false;
+  this->NumberOfNonTransparentCells = this->NumberOfNodesVisited = this->NumberOfSamples = 0;
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkFloatArray* rgba = this->InitializeOutput(vtkImageData::GetData(outputVector));
+  int dims[3];
+  vtkDataArray* scalars = this->PrepareFrame(input, inputVector, dims);
+  if (!scalars)
+  {
+    return 1;
+  }
+  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  {
+    vtkErrorMacro(
+      "The sample distance must be positive and finite, got " << this->SampleDistance << ".");
+    return 1;
+  }
+  if (!this->GetCamera()->GetParallelProjection())
+  {
+    vtkErrorMacro("Object-order ray casting needs a parallel projection (every cell projects "
+                  "to the same shape); the camera has a perspective one.");
+    return 1;
+  }
+  if (this->VolumeProperty->GetShade(0))
+  {
+    vtkWarningMacro("Shading is not implemented in the object-order ray caster yet; the "
+                    "volume is rendered unshaded.");
+  }
+
+  // The volume: bricks and octree, once per data.
+  if (I.Scalars != scalars || I.ScalarsTime < scalars->GetMTime() ||
+    !std::equal(dims, dims + 3, I.Dims))
+  {
+    I.BuildBricks(scalars, dims);
+    if (!this->Octree->Build(scalars, dims))
+    {
+      return 1;
+    }
+    I.Scalars = scalars;
+    I.ScalarsTime = scalars->GetMTime();
+  }
+  this->UpdateProgress(0.1);
+
+  // Classification table over the data range.
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  if (!(range[0] <= range[1]))
+  {
+    range[0] = 0.0;
+    range[1] = 1.0; // only NaN: nothing is drawn, as every cell is transparent
+  }
+  if (range[1] == range[0])
+  {
+    range[1] = range[0] + 1.0;
+  }
+  const int entries = vtkPreIntegrationTable::SuggestTableSize(
+    scalars->GetDataType(), range, this->Sampler, 256, 65536);
+  I.Entries = this->TableSize = entries;
+  I.S0 = range[0];
+  I.InvStep = (entries - 1) / (range[1] - range[0]);
+  std::vector<double> rgbTau(4 * static_cast<size_t>(entries));
+  this->Sampler->Sample(range[0], range[1], entries, rgbTau.data());
+  I.Table.resize(4 * static_cast<size_t>(entries));
+  for (int e = 0; e < entries; ++e)
+  {
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      I.Table[4 * e + ch] = static_cast<float>(rgbTau[4 * e + ch]);
+    }
+    I.Table[4 * e + 3] = static_cast<float>(-std::expm1(-rgbTau[4 * e + 3] * this->SampleDistance));
+  }
+  I.VisiblePrefix.assign(entries, 0);
+  for (int b = 0; b + 1 < entries; ++b)
+  {
+    const double lo = range[0] + b / I.InvStep, hi = range[0] + (b + 1) / I.InvStep;
+    const bool visible = this->Sampler->GetMaximumOpacity(lo, hi) > 0.0 ||
+      I.Table[4 * b + 3] > 0.0f || I.Table[4 * b + 7] > 0.0f;
+    I.VisiblePrefix[b + 1] = I.VisiblePrefix[b] + (visible ? 1 : 0);
+  }
+
+  // Pixel rays in grid index (0-based from the extent's first point).
+  const int* size = this->GetImageSize();
+  I.Width = std::max(size[0], 1);
+  I.Height = std::max(size[1], 1);
+  vtkNew<vtkMatrix4x4> toIndex;
+  toIndex->DeepCopy(input->GetPhysicalToIndexMatrix());
+  const int* extent = input->GetExtent();
+  for (int r = 0; r < 3; ++r)
+  {
+    toIndex->SetElement(r, 3, toIndex->GetElement(r, 3) - extent[2 * r]);
+  }
+  auto toGrid = [&](const double w[3], double g[3], double h)
+  {
+    const double in[4] = { w[0], w[1], w[2], h };
+    double out[4];
+    toIndex->MultiplyPoint(in, out);
+    std::copy(out, out + 3, g);
+  };
+  double o00[3], o10[3], o01[3], d[3];
+  this->RayModel->GetPixelRay(0, 0, o00, d);
+  this->RayModel->GetPixelRay(1, 0, o10, d);
+  this->RayModel->GetPixelRay(0, 1, o01, d);
+  double g10[3], g01[3];
+  toGrid(o00, I.O, 1.0);
+  toGrid(o10, g10, 1.0);
+  toGrid(o01, g01, 1.0);
+  toGrid(d, I.D, 0.0);
+  vtkMath::Subtract(g10, I.O, I.EX);
+  vtkMath::Subtract(g01, I.O, I.EY);
+  for (int a = 0; a < 3; ++a)
+  {
+    I.Still[a] = I.D[a] == 0.0;
+    I.InvD[a] = I.Still[a] ? 0.0 : 1.0 / I.D[a];
+  }
+  double columns[3][3];
+  for (int a = 0; a < 3; ++a)
+  {
+    columns[a][0] = I.EX[a];
+    columns[a][1] = I.EY[a];
+    columns[a][2] = I.D[a];
+  }
+  vtkMath::Invert3x3(columns, I.Inverse);
+  // Each pixel ray's chord through the box of the points.
+  I.Chords.assign(2 * static_cast<size_t>(I.Width) * I.Height, 0.0);
+  vtkSMPTools::For(0,
+    I.Height,
+    [&](vtkIdType j0, vtkIdType j1)
+    {
+      for (vtkIdType j = j0; j < j1; ++j)
+      {
+        for (int i = 0; i < I.Width; ++i)
+        {
+          double te = 0.0, tx = std::numeric_limits<double>::infinity();
+          for (int a = 0; a < 3; ++a)
+          {
+            const double o = I.O[a] + i * I.EX[a] + j * I.EY[a];
+            if (I.Still[a])
+            {
+              tx = (o >= 0.0 && o <= I.Cells[a]) ? tx : -1.0;
+              continue;
+            }
+            const double t1 = -o * I.InvD[a], t2 = (I.Cells[a] - o) * I.InvD[a];
+            te = std::max(te, std::min(t1, t2));
+            tx = std::min(tx, std::max(t1, t2));
+          }
+          const size_t p = static_cast<size_t>(i) + static_cast<size_t>(I.Width) * j;
+          I.Chords[2 * p] = te;
+          I.Chords[2 * p + 1] = tx;
+        }
+      }
+    });
+  I.Step = this->SampleDistance;
+  I.Interleaved = this->InterleavedSampling;
+  I.Removal = this->HiddenVolumeRemoval;
+  I.Threshold = static_cast<float>(this->OpacityThreshold);
+  I.FrameReady = true;
+
+  // Tiles in parallel; each pixel is written by its tile only.
+  const int tile = this->TileSize;
+  const int tilesX = (I.Width + tile - 1) / tile, tilesY = (I.Height + tile - 1) / tile;
+  const size_t cellCount = static_cast<size_t>(I.Cells[0]) * I.Cells[1] * I.Cells[2];
+  std::unique_ptr<std::atomic<unsigned char>[]> marks(new std::atomic<unsigned char>[cellCount]);
+  for (size_t c = 0; c < cellCount; ++c)
+  {
+    marks[c].store(0, std::memory_order_relaxed);
+  }
+  vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
+  float* image = rgba->GetPointer(0);
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(tilesX) * tilesY,
+    1,
+    [&](vtkIdType t0, vtkIdType t1)
+    {
+      TileWalker walker(I, this->Octree);
+      walker.Image = image;
+      walker.CellMarks = marks.get();
+      for (vtkIdType t = t0; t < t1; ++t)
+      {
+        const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);
+        const int clip[4] = { tx * tile,
+          std::min((tx + 1) * tile, I.Width) - 1,
+          ty * tile,
+          std::min((ty + 1) * tile, I.Height) - 1 };
+        walker.Walk(clip);
+      }
+      nodes.Local() += walker.Nodes;
+      samples.Local() += walker.Samples;
+    });
+  for (vtkIdType n : nodes)
+  {
+    this->NumberOfNodesVisited += n;
+  }
+  for (vtkIdType s : samples)
+  {
+    this->NumberOfSamples += s;
+  }
+  for (size_t c = 0; c < cellCount; ++c)
+  {
+    this->NumberOfNonTransparentCells += marks[c].load(std::memory_order_relaxed);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkObjectOrderRayCaster::ComputeNonTransparentCells()
+{
+  const vtkInternals& I = *this->Internals;
+  if (!I.FrameReady)
+  {
+    return -1;
+  }
+  TileWalker walker(I, this->Octree);
+  walker.Render = false;
+  walker.Removal = false;
+  const int clip[4] = { 0, I.Width - 1, 0, I.Height - 1 };
+  walker.Walk(clip);
+  return walker.Cells;
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "InterleavedSampling: " << this->InterleavedSampling << "\n";
+  os << indent << "HiddenVolumeRemoval: " << this->HiddenVolumeRemoval << "\n";
+  os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfNonTransparentCells: " << this->NumberOfNonTransparentCells << "\n";
+  os << indent << "NumberOfNodesVisited: " << this->NumberOfNodesVisited << "\n";
+  os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
+  os << indent << "TableSize: " << this->TableSize << "\n";
+}

@@ -1,0 +1,159 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkObjectOrderRayCaster
+ * @brief   object-order ray casting on the CPU (Mora, Jessel and Caubet)
+ *
+ * Composite volume rendering of the trilinear field for parallel projection, walking the
+ * volume instead of the rays ("Interactive volume rendering of large datasets... object-order
+ * ray-casting", the paper of ../shared/papers/object-order-raycasting.txt):
+ *   - a vtkMinMaxOctree over the cells, built once per volume, is traversed front to back
+ *     (children ordered by the view direction, valid for any parallel view); a node is skipped
+ *     when the current opacity transfer function is zero over its range (section 4.1), so
+ *     editing the transfer function costs no rebuild;
+ *   - hidden volume removal (section 4.2): a node whose screen rectangle is opaque in the
+ *     vtkHierarchicalOcclusionMap is skipped; a pixel becomes opaque, and stops taking
+ *     samples, when its alpha reaches OpacityThreshold;
+ *   - per cell, the 8 corners are loaded once and every pixel ray through the cell is sampled
+ *     in it (section 3.1: the pixels come from the cell's projected rectangle, and an exact
+ *     slab test gives each ray's segment in the cell); samples lie at t = phase + k
+ *     SampleDistance along each ray, t the world distance from the camera plane, and belong
+ *     to the cell where t falls (section 3.2's depth indicator, kept as the exact t); with
+ *     InterleavedSampling the phase is SampleDistance / 2 on every other pixel in a
+ *     checkerboard (section 3.3), trading staircase artifacts for noise;
+ *   - classification after interpolation: colour and extinction from a table over the data
+ *     range (sized by vtkPreIntegrationTable::SuggestTableSize), each sample weighted
+ *     alpha = 1 - exp(-tau SampleDistance) and composited front to back;
+ *   - the volume is copied once into float bricks of 32^3 points, Morton-ordered inside
+ *     (section 4.3.4), so a cell's corners and its neighbours share cache lines;
+ *   - the image is cut into tiles of TileSize pixels rendered in parallel with vtkSMPTools,
+ *     each with its own occlusion map: the image does not depend on the number of threads.
+ * Shading is not implemented yet: a property with Shade on is rendered unshaded, with a
+ * warning. Perspective cameras are an error (the paper's method needs every cell to project
+ * to the same shape); vtkObjectOrderVolumeMapper falls back to VTK's own ray caster for them.
+ *
+ * Counters of the last update (the paper's Table 1): non-transparent cells rendered (not
+ * hidden), octree nodes visited (summed over tiles), samples. ComputeNonTransparentCells()
+ * counts the non-transparent cells in view without hidden volume removal, for the occluded
+ * ratio.
+ */
+#ifndef vtkObjectOrderRayCaster_h
+#define vtkObjectOrderRayCaster_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkVolumeImageAlgorithm.h"
+
+class vtkMinMaxOctree;
+
+class HOVRRENDERINGCORE_EXPORT vtkObjectOrderRayCaster : public vtkVolumeImageAlgorithm
+{
+public:
+  static vtkObjectOrderRayCaster* New();
+  vtkTypeMacro(vtkObjectOrderRayCaster, vtkVolumeImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Distance between samples along each ray, in world units; must be positive. Initial
+   * value is 1.
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Shift the samples of every other pixel (checkerboard) by half a sample distance.
+   * Initial value is on.
+   */
+  vtkSetMacro(InterleavedSampling, bool);
+  vtkGetMacro(InterleavedSampling, bool);
+  vtkBooleanMacro(InterleavedSampling, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Skip octree nodes whose pixels are all opaque. The image is the same either way.
+   * Initial value is on.
+   */
+  vtkSetMacro(HiddenVolumeRemoval, bool);
+  vtkGetMacro(HiddenVolumeRemoval, bool);
+  vtkBooleanMacro(HiddenVolumeRemoval, bool);
+  ///@}
+
+  ///@{
+  /**
+   * A pixel whose alpha reaches this value takes no more samples (early ray termination,
+   * object-order). Initial value is 0.999.
+   */
+  vtkSetClampMacro(OpacityThreshold, double, 1e-3, 1.0);
+  vtkGetMacro(OpacityThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Edge of the image tiles rendered in parallel, in pixels. The image does not depend on
+   * it. Initial value is 32.
+   */
+  vtkSetClampMacro(TileSize, int, 4, 4096);
+  vtkGetMacro(TileSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Counters of the last update: non-transparent cells rendered (each cell once, however
+   * many tiles it touches), octree nodes visited (summed over tiles, cells included), samples
+   * taken.
+   */
+  vtkGetMacro(NumberOfNonTransparentCells, vtkIdType);
+  vtkGetMacro(NumberOfNodesVisited, vtkIdType);
+  vtkGetMacro(NumberOfSamples, vtkIdType);
+  ///@}
+
+  /**
+   * Non-transparent cells of the last update's volume and transfer function whose screen
+   * rectangle meets the image, without hidden volume removal: the denominator of the
+   * occluded-cell ratio. Walks the octree without sampling; -1 before a successful update.
+   */
+  vtkIdType ComputeNonTransparentCells();
+
+  /**
+   * The octree of the current volume (built on the first update).
+   */
+  vtkMinMaxOctree* GetOctree() { return this->Octree; }
+
+  /**
+   * Bytes of the bricked copy of the volume and of the octree.
+   */
+  vtkIdType GetMemorySize() const;
+
+  /**
+   * Entries of the classification table of the last update.
+   */
+  vtkGetMacro(TableSize, int);
+
+protected:
+  vtkObjectOrderRayCaster();
+  ~vtkObjectOrderRayCaster() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double SampleDistance = 1.0;
+  bool InterleavedSampling = true;
+  bool HiddenVolumeRemoval = true;
+  double OpacityThreshold = 0.999;
+  int TileSize = 32;
+  vtkIdType NumberOfNonTransparentCells = 0;
+  vtkIdType NumberOfNodesVisited = 0;
+  vtkIdType NumberOfSamples = 0;
+  int TableSize = 0;
+  vtkMinMaxOctree* Octree;
+
+private:
+  vtkObjectOrderRayCaster(const vtkObjectOrderRayCaster&) = delete;
+  void operator=(const vtkObjectOrderRayCaster&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
+
+#endif

@@ -1,0 +1,206 @@
+"""vtkObjectOrderRayCaster (object-order ray casting on the CPU) against the float64 reference
+and against itself.
+
+Accuracy (96 x 96, parallel views of Marschner-Lobb 41^3 with the narrow-spike transfer
+function): RMSE at half a voxel below 0.06 (0.1 along an axis, where samples lie on grid planes), falling with the step (first order at least:
+RMSE(1/4) < 0.7 RMSE(1/2)), for an oblique view, a view exactly along an axis and one along a
+diagonal, a 2-voxel-thick volume and a volume much larger than the image.
+
+Invariants: the same image (bit for bit) with 1 and 2 threads, with tiles of 8 and 64 pixels,
+and with and without hidden volume removal; on an opaque transfer function hidden volume
+removal leaves out over 65% of the non-transparent cells; editing the opacity every frame never
+rebuilds the octree.
+
+Extremes and bad input: a fully transparent transfer function gives an empty image and no
+cell; a fully opaque one an opaque silhouette; NaN voxels leave no NaN; perspective cameras, a
+zero or negative step, vectors and flat volumes are errors with a transparent image.
+"""
+
+import math
+
+import numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkSMPTools
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+import hovr
+from hovr import io as hio
+from hovrtesting import Checker, Messages, tf_path
+
+c = Checker()
+SIZE = 96
+
+
+def marschner_lobb(points=41):
+    source = hovr.vtkMarschnerLobbSource()
+    source.SetDimensions(points, points, points)
+    source.Update()
+    return source.GetOutput()
+
+
+def spikes(unit=0.05):
+    color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
+    return hio.make_volume_property(color, opacity, unit)
+
+
+def parallel(image, direction=(1.0, -1.6, 0.9), view_up=(0.0, 0.0, 1.0)):
+    return hio.default_camera(image.GetBounds(), direction, view_up, parallel=True)
+
+
+def pixels(algorithm):
+    return vtk_to_numpy(algorithm.GetOutput().GetPointData().GetScalars()).copy()
+
+
+def reference(image, prop, camera, size=SIZE):
+    integrator = hovr.vtkVolumeReferenceIntegrator()
+    integrator.SetInputData(image)
+    integrator.SetVolumeProperty(prop)
+    integrator.SetCamera(camera)
+    integrator.SetImageSize(size, size)
+    integrator.Update()
+    return pixels(integrator)
+
+
+def caster(image, prop, camera, step, size=SIZE, **settings):
+    algorithm = hovr.vtkObjectOrderRayCaster()
+    algorithm.messages = Messages(algorithm)
+    algorithm.SetInputData(image)
+    algorithm.SetVolumeProperty(prop)
+    algorithm.SetCamera(camera)
+    algorithm.SetImageSize(size, size)
+    algorithm.SetSampleDistance(step)
+    for key, value in settings.items():
+        getattr(algorithm, "Set" + key)(value)
+    algorithm.Update()
+    return algorithm
+
+
+def rmse(a, b):
+    return float(numpy.sqrt(((a - b) ** 2).mean()))
+
+
+# Accuracy against the reference, and first-order convergence at least.
+ml = marschner_lobb()
+prop = spikes()
+thin = vtkImageData()
+thin.SetDimensions(32, 32, 2)
+thin.SetSpacing(1.0 / 31, 1.0 / 31, 1.0 / 31)
+thin.GetPointData().SetScalars(numpy_to_vtk(numpy.tile(numpy.linspace(0.3, 0.7, 32), 64)
+                                            .astype(numpy.float32), deep=1))
+views = [("oblique", ml, parallel(ml), 0.06),
+         ("along x", ml, hio.camera_from_dict({
+             "position": [-5.0, 0.0, 0.0], "focal_point": [0.0, 0.0, 0.0], "view_up": [0, 0, 1],
+             "parallel_projection": True, "parallel_scale": 1.05}), 0.1),
+         ("diagonal", ml, parallel(ml, (1.0, 1.0, 1.0), (0.0, 0.0, 1.0)), 0.06),
+         ("2 voxels thick", thin, parallel(thin, (0.3, -0.4, 1.0), (0.0, 1.0, 0.0)), 0.03)]
+for label, image, camera, bound in views:
+    expected = reference(image, prop, camera)
+    errors = [rmse(pixels(caster(image, prop, camera, s * 2.0 / 40)), expected)
+              for s in (0.5, 0.25)]
+    print("%-15s RMSE at 1/2 voxel %.5f, at 1/4 %.5f" % (label, errors[0], errors[1]))
+    c.check(expected[:, 3].max() > 0.2, "%s: the reference image is not empty" % label)
+    c.check(errors[0] < bound, "%s: RMSE at half a voxel below %g (%.4f)" % (label, bound, errors[0]))
+    c.check(errors[1] < 0.7 * errors[0], "%s: the error falls with the step" % label)
+
+# A volume much larger than the image (each pixel sees several cells across).
+small = 12
+camera = parallel(ml)
+expected = reference(ml, prop, camera, small)
+error = rmse(pixels(caster(ml, prop, camera, 0.025, small)), expected)
+c.check(error < 0.1, "volume larger than a 12 x 12 image: RMSE %.4f" % error)
+
+# The same image whatever the threads, tiles and hidden volume removal.
+camera = parallel(ml)
+base = caster(ml, prop, camera, 0.025)
+images = {"default": pixels(base)}
+for threads in (1, 2):
+    vtkSMPTools.Initialize(threads)
+    images["%d threads" % threads] = pixels(caster(ml, prop, camera, 0.025))
+vtkSMPTools.Initialize(0)
+for tile in (8, 64):
+    images["tiles of %d" % tile] = pixels(caster(ml, prop, camera, 0.025, TileSize=tile))
+images["no hidden volume removal"] = pixels(caster(ml, prop, camera, 0.025,
+                                                   HiddenVolumeRemoval=False))
+for label, image in images.items():
+    c.check(numpy.array_equal(image, images["default"]), "%s: the same image" % label)
+
+# Opaque transfer function: hidden volume removal culls most non-transparent cells.
+color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-opaque"))
+opaque = hio.make_volume_property(color, opacity, 0.02)
+with_removal = caster(ml, opaque, camera, 0.025, size=128)
+in_view = with_removal.ComputeNonTransparentCells()
+rendered = with_removal.GetNumberOfNonTransparentCells()
+print("opaque: %d of %d non-transparent cells rendered (%.1f%% occluded), %d nodes, %d samples"
+      % (rendered, in_view, 100.0 * (1 - rendered / in_view), with_removal.GetNumberOfNodesVisited(),
+         with_removal.GetNumberOfSamples()))
+c.check(in_view > 0 and rendered < 0.35 * in_view,
+        "opaque: hidden volume removal leaves out over 65% of the non-transparent cells")
+without = caster(ml, opaque, camera, 0.025, size=128, HiddenVolumeRemoval=False)
+c.check(without.GetNumberOfNonTransparentCells() == in_view and
+        numpy.array_equal(pixels(without), pixels(with_removal)),
+        "opaque: without removal every non-transparent cell in view is rendered, same image")
+
+# Editing the opacity every frame: no octree rebuild, and the image follows.
+algorithm = caster(ml, spikes(), camera, 0.05)
+builds = algorithm.GetOctree().GetBuildCount()
+previous = pixels(algorithm)
+changed = True
+for frame in range(3):
+    algorithm.GetVolumeProperty().GetScalarOpacity().AddPoint(0.5, 0.2 + 0.2 * frame)
+    algorithm.Update()
+    now = pixels(algorithm)
+    changed = changed and not numpy.array_equal(now, previous)
+    previous = now
+c.check(algorithm.GetOctree().GetBuildCount() == builds and changed,
+        "opacity edited every frame: the image changes, the octree is not rebuilt")
+
+# Extremes of the transfer function.
+transparent = spikes()
+transparent.GetScalarOpacity().RemoveAllPoints()
+transparent.GetScalarOpacity().AddPoint(0.0, 0.0)
+transparent.GetScalarOpacity().AddPoint(1.0, 0.0)
+empty = caster(ml, transparent, camera, 0.05)
+c.check(not pixels(empty).any() and empty.GetNumberOfNonTransparentCells() == 0 and
+        empty.GetNumberOfSamples() == 0, "fully transparent: empty image, no cell, no sample")
+solid = spikes(1.0)
+solid.GetScalarOpacity().RemoveAllPoints()
+solid.GetScalarOpacity().AddPoint(0.0, 1.0)
+solid.GetScalarOpacity().AddPoint(1.0, 1.0)
+full = pixels(caster(ml, solid, camera, 0.05))
+covered = reference(ml, solid, camera)[:, 3] > 0.999
+c.check(covered.any() and (full[covered, 3] >= 0.999).all() and
+        (full[~covered, 3] < 0.999).all(), "fully opaque: exactly the silhouette is opaque")
+
+# NaN voxels: transparent cells, a finite image.
+holes = vtkImageData()
+holes.DeepCopy(ml)
+values = vtk_to_numpy(holes.GetPointData().GetScalars())
+values[::7] = numpy.nan
+holes.GetPointData().GetScalars().Modified()
+c.check(numpy.isfinite(pixels(caster(holes, prop, camera, 0.05))).all(), "NaN voxels: finite image")
+
+# Bad input: errors and a transparent image.
+perspective = hio.default_camera(ml.GetBounds())
+bad = caster(ml, prop, perspective, 0.05)
+c.check(bad.messages.errors and "parallel" in bad.messages.errors[0] and not pixels(bad).any(),
+        "perspective camera: error, transparent image")
+for step in (0.0, -1.0):
+    bad = caster(ml, prop, camera, step)
+    c.check(bad.messages.errors and "sample distance" in bad.messages.errors[0],
+            "sample distance %g: error" % step)
+vectors = vtkImageData()
+vectors.SetDimensions(4, 4, 4)
+vectors.AllocateScalars(11, 3)
+bad = caster(vectors, prop, camera, 0.05)
+c.check(bad.messages.errors and "single-component" in bad.messages.errors[0], "vectors: error")
+flat = vtkImageData()
+flat.SetDimensions(8, 8, 1)
+flat.AllocateScalars(11, 1)
+bad = caster(flat, prop, camera, 0.05)
+c.check(bad.messages.errors and "2 points" in bad.messages.errors[0], "flat volume: error")
+shaded = spikes()
+shaded.ShadeOn()
+warned = caster(ml, shaded, camera, 0.05)
+c.check(warned.messages.warnings and "not implemented" in warned.messages.warnings[0],
+        "shading: a warning that it is not implemented yet")
+c.finish()
