@@ -6,6 +6,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkRenderer.h"
@@ -29,6 +30,22 @@ vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 
 namespace
 {
+// Whether a piecewise function is 1 at every node (so everywhere: VTK clamps outside them).
+bool IsConstantOne(vtkPiecewiseFunction* function)
+{
+  const int n = function ? function->GetSize() : 0;
+  double node[4];
+  for (int i = 0; i < n; ++i)
+  {
+    function->GetNodeValue(i, node);
+    if (node[1] != 1.0)
+    {
+      return false;
+    }
+  }
+  return n > 0;
+}
+
 constexpr int MaximumVolumeTableSize = 512;
 }
 
@@ -150,7 +167,10 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkVolume* vol
   {
     return "first-order pre-integration does not shade";
   }
-  if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0))
+  // A gradient opacity of 1 everywhere changes nothing; VTK creates that default as soon as
+  // anything (vtkFixedPointVolumeRayCastMapper, for one) asks the property for the function.
+  if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0) &&
+    !IsConstantOne(property->GetGradientOpacity(0)))
   {
     return "pre-integration does not support gradient opacity";
   }

@@ -4,6 +4,8 @@ baseline PNG (Testing/Data/Baseline/MethodBaseline_<method>.png). Isosurface met
 the shaded isosurface 0.5 with the iso-opaque transfer function, projections the spike one;
 the reference is drawn in every blend mode (MethodBaseline_reference-<blend>.png).
 
+Parallel-only methods (objectorder) draw the same view in parallel projection.
+
 Tolerance: the PNGs are 8-bit, so a pixel may differ by 1/255 from rounding alone; llvmpipe
 results vary slightly between CPUs (ENVIRONMENT.md), so up to 0.5% of the pixels may differ
 by up to 8/255 and none by more. A missing baseline is written and the test fails: that is how
@@ -44,7 +46,12 @@ runs += [(hm.get_method("reference"), "reference" + ("" if b == "composite" else
          for b in hm.BLEND_MODES]
 renderer = hm.Renderer()
 for method, name, blend in runs:
-    result = renderer.render(method, blend_scene(blend), 1.0)
+    scene = blend_scene(blend)
+    if method.parallel_only:  # the same view in parallel projection
+        scene = hm.Scene(scene.image, scene.prop, hio.default_camera(scene.image.GetBounds(),
+                                                                     parallel=True),
+                         scene.size, scene.blend)
+    result = renderer.render(method, scene, 1.0)
     method = name
     test_png = os.path.join(out_dir, "MethodBaseline_%s.png" % method)
     hio.rgba_to_png(result.image, test_png)

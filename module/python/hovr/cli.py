@@ -145,9 +145,10 @@ def cmd_render(args):
         print("hovr render: warning: " + warning, file=sys.stderr)
     color, opacity, _ = hio.read_transfer_function(args.tf)
     prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
-    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
-        image.GetBounds())
     method = hm.get_method(args.method)
+    # Parallel-only methods get the default view in parallel projection.
+    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
+        image.GetBounds(), parallel=method.parallel_only)
     if method.blend and args.blend and args.blend != method.blend:
         raise HovrError("--blend %s contradicts method %s, which renders %s" % (
             args.blend, method.name, method.blend))

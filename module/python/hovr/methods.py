@@ -100,6 +100,7 @@ class Method:
 
     kind = "gpu"
     uses_step = True
+    parallel_only = False  # renders parallel projections only (an error for perspective)
     description = ""
     blend = "composite"  # the blend mode the method renders; None: any (the reference)
 
@@ -187,6 +188,7 @@ class ObjectOrderMethod(Method):
     """vtkObjectOrderRayCaster: object-order ray casting on the CPU (parallel projection)."""
 
     kind = "cpu"
+    parallel_only = True
 
     def render_offline(self, renderer, scene, step, repeat):
         caster = core.vtkObjectOrderRayCaster()

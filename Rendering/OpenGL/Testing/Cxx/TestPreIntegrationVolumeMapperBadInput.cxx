@@ -225,6 +225,12 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
   property->DisableGradientOpacityOff();
   property->SetGradientOpacity(static_cast<vtkPiecewiseFunction*>(nullptr));
   CheckPreIntegratedAgain(check, scene, data, "gradient opacity");
+  // VTK's default gradient opacity (1 everywhere), which GetGradientOpacity() creates for
+  // whoever asks, as vtkFixedPointVolumeRayCastMapper does: nothing to fall back for.
+  property->GetGradientOpacity(0);
+  check(property->HasGradientOpacity(0), "GetGradientOpacity() created VTK's default function");
+  CheckPreIntegratedAgain(check, scene, data, "the default gradient opacity");
+  property->SetGradientOpacity(static_cast<vtkPiecewiseFunction*>(nullptr));
 
   // Maximum intensity: the maxima along the rays are near 1, made visible for this case.
   property->GetScalarOpacity(0)->AddPoint(1.0, 0.8);
