@@ -12,6 +12,7 @@
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMinMaxOctree.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPreIntegrationTable.h"
 #include "vtkSMPThreadLocal.h"
@@ -28,6 +29,7 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkObjectOrderRayCaster);
+vtkCxxSetObjectMacro(vtkObjectOrderRayCaster, VolumeMatrix, vtkMatrix4x4);
 
 namespace
 {
@@ -423,7 +425,15 @@ vtkObjectOrderRayCaster::vtkObjectOrderRayCaster()
 vtkObjectOrderRayCaster::~vtkObjectOrderRayCaster()
 {
   this->Octree->Delete();
+  this->SetVolumeMatrix(nullptr);
   delete this->Internals;
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkObjectOrderRayCaster::GetMTime()
+{
+  const vtkMTimeType t = this->Superclass::GetMTime();
+  return this->VolumeMatrix ? std::max(t, this->VolumeMatrix->GetMTime()) : t;
 }
 
 //------------------------------------------------------------------------------
@@ -522,8 +532,18 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   const int* size = this->GetImageSize();
   I.Width = std::max(size[0], 1);
   I.Height = std::max(size[1], 1);
+  // World -> data (the volume's placement) -> grid index.
   vtkNew<vtkMatrix4x4> toIndex;
-  toIndex->DeepCopy(input->GetPhysicalToIndexMatrix());
+  if (this->VolumeMatrix)
+  {
+    if (this->VolumeMatrix->Determinant() == 0.0)
+    {
+      vtkErrorMacro("The volume matrix is singular.");
+      return 1;
+    }
+    vtkMatrix4x4::Invert(this->VolumeMatrix, toIndex);
+  }
+  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), toIndex, toIndex);
   const int* extent = input->GetExtent();
   for (int r = 0; r < 3; ++r)
   {
@@ -667,6 +687,7 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HiddenVolumeRemoval: " << this->HiddenVolumeRemoval << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "VolumeMatrix: " << this->VolumeMatrix << "\n";
   os << indent << "NumberOfNonTransparentCells: " << this->NumberOfNonTransparentCells << "\n";
   os << indent << "NumberOfNodesVisited: " << this->NumberOfNodesVisited << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";

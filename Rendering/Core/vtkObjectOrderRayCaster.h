@@ -42,6 +42,7 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
 
+class vtkMatrix4x4;
 class vtkMinMaxOctree;
 
 class HOVRRENDERINGCORE_EXPORT vtkObjectOrderRayCaster : public vtkVolumeImageAlgorithm
@@ -91,6 +92,15 @@ public:
 
   ///@{
   /**
+   * Placement of the volume in the world (a vtkVolume's matrix, from data to world
+   * coordinates). Initial value is nullptr: the identity.
+   */
+  virtual void SetVolumeMatrix(vtkMatrix4x4*);
+  vtkGetObjectMacro(VolumeMatrix, vtkMatrix4x4);
+  ///@}
+
+  ///@{
+  /**
    * Edge of the image tiles rendered in parallel, in pixels. The image does not depend on
    * it. Initial value is 32.
    */
@@ -131,6 +141,8 @@ public:
    */
   vtkGetMacro(TableSize, int);
 
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkObjectOrderRayCaster();
   ~vtkObjectOrderRayCaster() override;
@@ -147,6 +159,7 @@ protected:
   vtkIdType NumberOfSamples = 0;
   int TableSize = 0;
   vtkMinMaxOctree* Octree;
+  vtkMatrix4x4* VolumeMatrix = nullptr;
 
 private:
   vtkObjectOrderRayCaster(const vtkObjectOrderRayCaster&) = delete;

@@ -185,35 +185,23 @@ class ReferenceMethod(Method):
 
 
 class ObjectOrderMethod(Method):
-    """vtkObjectOrderRayCaster: object-order ray casting on the CPU (parallel projection)."""
+    """vtkObjectOrderVolumeMapper: object-order ray casting on the CPU (parallel projection),
+    drawn in the window like VTK's CPU mapper."""
 
-    kind = "cpu"
     parallel_only = True
 
-    def render_offline(self, renderer, scene, step, repeat):
-        caster = core.vtkObjectOrderRayCaster()
-        caster.SetInputData(scene.image)
-        caster.SetVolumeProperty(scene.prop)
-        caster.SetCamera(scene.camera)
-        caster.SetImageSize(*scene.size)
-        caster.SetSampleDistance(scene.step_length(step))
-        times = []
-        for _ in range(max(repeat, 0) + 1):  # the first update also builds the octree
-            caster.Modified()
-            errors = _Errors(caster)
-            start = time.perf_counter()
-            caster.Update()
-            times.append(1000.0 * (time.perf_counter() - start))
-            errors.close()
-        image = vtkImageData()
-        image.DeepCopy(caster.GetOutput())
+    def make_mapper(self):
+        return gl.vtkObjectOrderVolumeMapper()
+
+    def statistics(self, mapper):
+        caster = mapper.GetCaster()
         in_view = caster.ComputeNonTransparentCells()
         rendered = caster.GetNumberOfNonTransparentCells()
-        return RenderResult(image, times[1:] if repeat > 0 else [], caster.GetNumberOfSamples(),
-                            {"nontransparent_cells": rendered,
-                             "occluded_ratio": 1.0 - rendered / in_view if in_view > 0 else 0.0,
-                             "octree_nodes": caster.GetNumberOfNodesVisited(),
-                             "cpu_bytes": caster.GetMemorySize()})
+        return {"samples_per_frame": caster.GetNumberOfSamples(),
+                "nontransparent_cells": rendered,
+                "occluded_ratio": 1.0 - rendered / in_view if in_view > 0 else 0.0,
+                "octree_nodes": caster.GetNumberOfNodesVisited(),
+                "cpu_bytes": caster.GetMemorySize()}
 
 
 METHODS = {m.name: m for m in (

@@ -1,0 +1,178 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkObjectOrderVolumeMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkErrorForwarder.h"
+#include "vtkFixedPointVolumeRayCastMapper.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkObjectFactory.h"
+#include "vtkObjectOrderRayCaster.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkPointData.h"
+#include "vtkRenderer.h"
+#include "vtkTextureObject.h"
+#include "vtkVolume.h"
+#include "vtk_glew.h"
+
+vtkStandardNewMacro(vtkObjectOrderVolumeMapper);
+
+//------------------------------------------------------------------------------
+vtkObjectOrderVolumeMapper::vtkObjectOrderVolumeMapper()
+  : Caster(vtkObjectOrderRayCaster::New())
+  , Texture(vtkTextureObject::New())
+  , Fallback(vtkFixedPointVolumeRayCastMapper::New())
+{
+  vtkErrorForwarder::Forward(this->Caster, this);
+  this->Fallback->SetAutoAdjustSampleDistances(0);
+  this->Fallback->SetLockSampleDistanceToInputSpacing(0);
+}
+
+//------------------------------------------------------------------------------
+vtkObjectOrderVolumeMapper::~vtkObjectOrderVolumeMapper()
+{
+  this->Caster->Delete();
+  this->Texture->Delete();
+  this->Fallback->Delete();
+}
+
+//------------------------------------------------------------------------------
+const char* vtkObjectOrderVolumeMapper::GetFallbackReason(vtkRenderer* ren, vtkVolume*)
+{
+  if (!ren->GetActiveCamera()->GetParallelProjection())
+  {
+    return "object-order ray casting needs a parallel projection";
+  }
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return "object-order ray casting does composite blending only";
+  }
+  if (this->Cropping)
+  {
+    return "object-order ray casting does not crop";
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInputDataObject(0, 0));
+  vtkDataArray* scalars = input ? input->GetPointData()->GetScalars() : nullptr;
+  if (scalars && scalars->GetNumberOfComponents() != 1)
+  {
+    return "object-order ray casting renders single-component point scalars";
+  }
+  return nullptr;
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInputDataObject(0, 0));
+  if (!input)
+  {
+    vtkErrorMacro("No input image to render.");
+    return;
+  }
+  if (const char* reason = this->GetFallbackReason(ren, vol))
+  {
+    if (this->LastWarning != reason)
+    {
+      vtkWarningMacro(<< reason << "; drawing with vtkFixedPointVolumeRayCastMapper.");
+      this->LastWarning = reason;
+    }
+    this->LastFrameFellBack = true;
+    this->Fallback->SetInputData(input);
+    this->Fallback->SetBlendMode(this->BlendMode);
+    this->Fallback->SetCropping(this->Cropping);
+    this->Fallback->SetCroppingRegionPlanes(this->CroppingRegionPlanes);
+    this->Fallback->SetCroppingRegionFlags(this->CroppingRegionFlags);
+    this->Fallback->SetSampleDistance(this->SampleDistance);
+    this->Fallback->Render(ren, vol);
+    return;
+  }
+  this->LastWarning.clear();
+  this->LastFrameFellBack = false;
+
+  int size[2], origin[2];
+  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &origin[0], &origin[1]);
+  if (size[0] < 1 || size[1] < 1)
+  {
+    return;
+  }
+  this->InvokeEvent(vtkCommand::VolumeMapperRenderStartEvent, nullptr);
+  this->Caster->SetInputData(input);
+  this->Caster->SetVolumeProperty(vol->GetProperty());
+  this->Caster->SetVolumeMatrix(vol->GetMatrix());
+  this->Caster->SetCamera(ren->GetActiveCamera());
+  this->Caster->SetImageSize(size);
+  this->Caster->SetSampleDistance(this->SampleDistance);
+  this->Caster->Update();
+  vtkFloatArray* rgba =
+    vtkFloatArray::SafeDownCast(this->Caster->GetOutput()->GetPointData()->GetScalars());
+  const vtkIdType n = static_cast<vtkIdType>(size[0]) * size[1];
+  if (!rgba || rgba->GetNumberOfTuples() != n)
+  {
+    return; // the caster reported why
+  }
+  // The float image, texel for pixel (nearest), composited over what is drawn: premultiplied
+  // colour, so "over" is (1, 1 - alpha).
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!context)
+  {
+    vtkErrorMacro("Object-order ray casting draws its image with OpenGL; the render window "
+                  "is not an OpenGL one.");
+    return;
+  }
+  this->Texture->SetContext(context);
+  this->Texture->SetInternalFormat(GL_RGBA32F);
+  this->Texture->SetFormat(GL_RGBA);
+  this->Texture->SetDataType(GL_FLOAT);
+  if (!this->Texture->Create2DFromRaw(size[0], size[1], 4, VTK_FLOAT, rgba->GetPointer(0)))
+  {
+    vtkErrorMacro("Could not upload the " << size[0] << " x " << size[1] << " image.");
+    return;
+  }
+  this->Texture->SetMinificationFilter(vtkTextureObject::Nearest);
+  this->Texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  vtkOpenGLState* state = context->GetState();
+  vtkOpenGLState::ScopedglBlendFuncSeparate blendSaver(state);
+  vtkOpenGLState::ScopedglEnableDisable blendEnabled(state, GL_BLEND);
+  vtkOpenGLState::ScopedglEnableDisable depthTest(state, GL_DEPTH_TEST);
+  vtkOpenGLState::ScopedglDepthMask depthMask(state);
+  state->vtkglEnable(GL_BLEND);
+  state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  state->vtkglDisable(GL_DEPTH_TEST);
+  state->vtkglDepthMask(GL_FALSE);
+  this->Texture->Activate();
+  this->Texture->CopyToFrameBuffer(0,
+    0,
+    size[0] - 1,
+    size[1] - 1,
+    0,
+    0,
+    size[0] - 1,
+    size[1] - 1,
+    size[0],
+    size[1],
+    nullptr,
+    nullptr);
+  this->Texture->Deactivate();
+  this->InvokeEvent(vtkCommand::VolumeMapperRenderEndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Texture->ReleaseGraphicsResources(window);
+  this->Fallback->ReleaseGraphicsResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "LastFrameFellBack: " << this->LastFrameFellBack << "\n";
+  os << indent << "Caster:\n";
+  this->Caster->PrintSelf(os, indent.GetNextIndent());
+}

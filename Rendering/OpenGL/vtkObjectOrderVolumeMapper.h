@@ -1,0 +1,79 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkObjectOrderVolumeMapper
+ * @brief   CPU volume mapper: object-order ray casting (Mora, Jessel and Caubet)
+ *
+ * A vtkVolumeMapper for renderers without a GPU (pvbatch on cluster nodes, CI machines): each
+ * frame, vtkObjectOrderRayCaster computes the image of the volume for the renderer's camera
+ * and viewport on the CPU (min-max octree, hidden volume removal, threads through
+ * vtkSMPTools, the same image for any number of threads), and the float image is drawn over
+ * the viewport, one texel per pixel, composited over what is already there.
+ *
+ * Composite blending of single-component point scalars in parallel projection. Anything else
+ * (a perspective camera, another blend mode, cropping, several components) is drawn by an
+ * internal vtkFixedPointVolumeRayCastMapper with the same sample distance, after a warning
+ * given once per reason: never a wrong image. Shading is not implemented yet (the image is
+ * unshaded, with the caster's warning).
+ */
+#ifndef vtkObjectOrderVolumeMapper_h
+#define vtkObjectOrderVolumeMapper_h
+
+#include "hovrRenderingOpenGLModule.h" // For export macro
+#include "vtkVolumeMapper.h"
+
+#include <string> // For std::string
+
+class vtkFixedPointVolumeRayCastMapper;
+class vtkObjectOrderRayCaster;
+class vtkTextureObject;
+
+class HOVRRENDERINGOPENGL_EXPORT vtkObjectOrderVolumeMapper : public vtkVolumeMapper
+{
+public:
+  static vtkObjectOrderVolumeMapper* New();
+  vtkTypeMacro(vtkObjectOrderVolumeMapper, vtkVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Distance between samples along each ray, in world units; must be positive. Initial
+   * value is 1.
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  /**
+   * The object-order ray caster: its settings (InterleavedSampling, HiddenVolumeRemoval,
+   * OpacityThreshold, TileSize) and the counters of the last frame.
+   */
+  vtkObjectOrderRayCaster* GetCaster() { return this->Caster; }
+
+  /**
+   * Whether the last frame was drawn by the internal vtkFixedPointVolumeRayCastMapper.
+   */
+  vtkGetMacro(LastFrameFellBack, bool);
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+protected:
+  vtkObjectOrderVolumeMapper();
+  ~vtkObjectOrderVolumeMapper() override;
+
+  // Why the caster cannot draw this frame, or nullptr.
+  const char* GetFallbackReason(vtkRenderer* ren, vtkVolume* vol);
+
+  double SampleDistance = 1.0;
+  bool LastFrameFellBack = false;
+  std::string LastWarning;
+  vtkObjectOrderRayCaster* Caster;
+  vtkTextureObject* Texture;
+  vtkFixedPointVolumeRayCastMapper* Fallback;
+
+private:
+  vtkObjectOrderVolumeMapper(const vtkObjectOrderVolumeMapper&) = delete;
+  void operator=(const vtkObjectOrderVolumeMapper&) = delete;
+};
+
+#endif

@@ -1,0 +1,98 @@
+"""vtkObjectOrderVolumeMapper in a render window: what it draws is vtkObjectOrderRayCaster's
+image (exactly: a float texture drawn texel for pixel); a volume moved by its matrix with the camera moved alike
+gives the same image; what it cannot draw (a perspective camera, maximum intensity, cropping)
+is drawn by vtkFixedPointVolumeRayCastMapper after one warning per reason, and drawing
+returns to the object-order caster when the reason goes away.
+"""
+
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+import hovr
+from hovr import io as hio
+from hovr import methods as hm
+from hovrtesting import Checker, Messages, marschner_lobb_scene
+
+c = Checker()
+SIZE = (96, 80)
+scene = marschner_lobb_scene(SIZE)
+scene = hm.Scene(scene.image, scene.prop, hio.default_camera(scene.image.GetBounds(),
+                                                             parallel=True), SIZE)
+step = 0.025
+
+
+def caster_pixels(camera, matrix=None):
+    caster = hovr.vtkObjectOrderRayCaster()
+    caster.SetInputData(scene.image)
+    caster.SetVolumeProperty(scene.prop)
+    caster.SetCamera(camera)
+    caster.SetImageSize(*SIZE)
+    caster.SetSampleDistance(step)
+    caster.SetVolumeMatrix(matrix)
+    caster.Update()
+    return vtk_to_numpy(caster.GetOutput().GetPointData().GetScalars()).copy()
+
+
+renderer = hm.Renderer()
+drawn = renderer.render("objectorder", scene, step / 0.05)
+window = vtk_to_numpy(drawn.image.GetPointData().GetScalars())
+computed = caster_pixels(scene.camera)
+difference = numpy.abs(window - computed).max()
+print("window against caster: max difference %.2e, alpha max %.3f" % (difference,
+                                                                   computed[:, 3].max()))
+c.check(computed[:, 3].max() > 0.3 and difference < 1e-6,
+        "the window shows the caster's image (difference %.1e)" % difference)
+c.check(drawn.samples_per_frame > 0 and drawn.extra["nontransparent_cells"] > 0,
+        "the mapper reports the caster's counters")
+
+# Moving the volume by its matrix and the camera alike changes nothing.
+moved = hio.default_camera(scene.image.GetBounds(), parallel=True)
+moved.SetPosition(*[p + d for p, d in zip(moved.GetPosition(), (0.3, -0.2, 0.1))])
+moved.SetFocalPoint(*[p + d for p, d in zip(moved.GetFocalPoint(), (0.3, -0.2, 0.1))])
+volume = vtkVolume()
+volume.SetPosition(0.3, -0.2, 0.1)
+shifted = caster_pixels(moved, volume.GetMatrix())
+c.check(numpy.abs(shifted - computed).max() < 1e-5,
+        "a volume moved with the camera gives the same image (%.1e)"
+        % numpy.abs(shifted - computed).max())
+
+# Fallbacks, drawn directly in a window.
+from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer  # noqa: E402
+window = vtkRenderWindow()
+window.SetOffScreenRendering(1)
+window.SetSize(*SIZE)
+view = vtkRenderer()
+window.AddRenderer(view)
+mapper = hovr.vtkObjectOrderVolumeMapper()
+mapper.SetInputData(scene.image)
+mapper.SetSampleDistance(step)
+messages = Messages(mapper)
+volume = vtkVolume()
+volume.SetMapper(mapper)
+volume.SetProperty(scene.prop)
+view.AddVolume(volume)
+view.GetActiveCamera().DeepCopy(scene.camera)
+view.ResetCameraClippingRange()
+window.Render()
+c.check(not mapper.GetLastFrameFellBack() and not messages.warnings,
+        "parallel composite: drawn by the object-order caster")
+cases = [("parallel", lambda on: view.GetActiveCamera().SetParallelProjection(not on)),
+         ("composite", lambda on: mapper.SetBlendMode(1 if on else 0)),
+         ("crop", lambda on: mapper.SetCropping(on))]
+for reason, toggle in cases:
+    toggle(True)
+    window.Render()
+    window.Render()  # warned once
+    fell_back = mapper.GetLastFrameFellBack()
+    warned = [w for w in messages.warnings if reason in w]
+    c.check(fell_back and len(warned) == 1,
+            "%s: drawn by vtkFixedPointVolumeRayCastMapper after one warning (%d)" % (
+                reason, len(warned)))
+    toggle(False)
+    window.Render()
+    c.check(not mapper.GetLastFrameFellBack(), "%s undone: object-order again" % reason)
+c.check(not messages.errors, "no errors")
+window.Finalize()
+renderer.close()
+c.finish()
