@@ -202,12 +202,16 @@ public:
   int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
   bool Render = true;
   bool Removal = true;
+  float S0, InvStep, LastEntry; // the table's mapping, in float for the sample loop
   vtkIdType Nodes = 0, Samples = 0, Cells = 0;
 
   TileWalker(const Frame& internals, const vtkMinMaxOctree* octree)
     : I(internals)
     , Octree(octree)
     , Removal(internals.Removal)
+    , S0(static_cast<float>(internals.S0))
+    , InvStep(static_cast<float>(internals.InvStep))
+    , LastEntry(static_cast<float>(internals.Entries - 1))
   {
     for (int a = 0; a < 3; ++a)
     {
@@ -355,12 +359,21 @@ public:
           n += 1.0;
         }
         float* pixel = this->Image + 4 * p;
+        // Local coordinates in float from the cell entry, where they are small: the ray at
+        // tin, and its direction.
+        float entry[3], direction[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          entry[a] = static_cast<float>(o[a] + tin * I.D[a] - c[a]);
+          direction[a] = static_cast<float>(I.D[a]);
+        }
         for (double t = phase + n * step; t < tout; n += 1.0, t = phase + n * step)
         {
+          const float dt = static_cast<float>(t - tin);
           float u[3];
           for (int a = 0; a < 3; ++a)
           {
-            u[a] = static_cast<float>(std::min(std::max(o[a] + t * I.D[a] - c[a], 0.0), 1.0));
+            u[a] = std::min(std::max(entry[a] + dt * direction[a], 0.0f), 1.0f);
           }
           const float x0 = corners[0] + u[0] * (corners[1] - corners[0]);
           const float x1 = corners[2] + u[0] * (corners[3] - corners[2]);
@@ -368,12 +381,12 @@ public:
           const float x3 = corners[6] + u[0] * (corners[7] - corners[6]);
           const float y0 = x0 + u[1] * (x1 - x0);
           const float y1 = x2 + u[1] * (x3 - x2);
-          const double s = y0 + u[2] * (y1 - y0);
+          const float s = y0 + u[2] * (y1 - y0);
           // Classification after interpolation, linear between table entries.
-          double e = (s - I.S0) * I.InvStep;
-          e = std::min(std::max(e, 0.0), static_cast<double>(I.Entries - 1));
+          float e = (s - this->S0) * this->InvStep;
+          e = std::min(std::max(e, 0.0f), this->LastEntry);
           const int e0 = std::min(static_cast<int>(e), I.Entries - 2);
-          const float f = static_cast<float>(e - e0);
+          const float f = e - static_cast<float>(e0);
           const float* a0 = I.Table.data() + 4 * e0;
           float alpha = a0[3] + f * (a0[7] - a0[3]);
           ++this->Samples;

@@ -119,9 +119,11 @@ def load_config(path):
     for name in config.get("methods", []):
         hm.get_method(name)
     for entry in config.get("runs", []) + [r for d in config["datasets"] for r in d.get("runs", [])]:
-        if (not isinstance(entry, list) or len(entry) != 2
-                or not isinstance(entry[1], (int, float)) or not entry[1] > 0):
-            raise HovrError("%s: a run is [method, positive step], got %r" % (path, entry))
+        if (not isinstance(entry, list) or len(entry) not in (2, 3)
+                or not isinstance(entry[1], (int, float)) or not entry[1] > 0
+                or (len(entry) == 3 and not (isinstance(entry[2], int) and entry[2] >= 1))):
+            raise HovrError("%s: a run is [method, positive step] or [method, positive step, "
+                            "threads], got %r" % (path, entry))
         hm.get_method(entry[0])
     for step in config.get("steps", []):
         if not (isinstance(step, (int, float)) and step > 0):
@@ -196,14 +198,14 @@ def run(config_path, output, log=print, renderer=None):
                                                   size), log)
             hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
             dataset_rows = []
-            pairs = _runs_of(spec, config)
-            runs = [(hm.get_method(n), step) for n, step in pairs
-                    if hm.get_method(n).kind == "gpu"]
+            pairs = [(hm.get_method(n, threads), step) for n, step, threads
+                     in _runs_of(spec, config)]
+            runs = [(m, step) for m, step in pairs if m.kind == "gpu"]
             results = renderer.render_interleaved(runs, scene, repeat) if runs else []
-            for n, step in pairs:
-                if hm.get_method(n).kind == "cpu":
-                    runs.append((hm.get_method(n), step))
-                    results.append(renderer.render(n, scene, step, repeat))
+            for m, step in pairs:
+                if m.kind == "cpu":
+                    runs.append((m, step))
+                    results.append(renderer.render(m, scene, step, repeat))
             panels = []
             for (method, step), result in zip(runs, results):
                 errors, difference = hm.compare(result.image, reference)
@@ -252,13 +254,14 @@ def _reference(renderer, scene, name, output, key, log):
 
 
 def _runs_of(spec, config):
-    """The (method name, step) pairs of a dataset: explicit runs, else methods x steps."""
+    """The (method name, step, threads) of a dataset: explicit runs ([name, step] or
+    [name, step, threads]), else methods x steps; threads None is the default."""
     runs = spec.get("runs", config.get("runs"))
     if runs:
-        return [(name, float(step)) for name, step in runs]
+        return [(run[0], float(run[1]), int(run[2]) if len(run) > 2 else None) for run in runs]
     steps = spec.get("steps", config.get("steps", [1]))
     names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
-    return [(name, step) for name in names
+    return [(name, step, None) for name in names
             for step in (steps if hm.get_method(name).uses_step else [min(steps)])]
 
 

@@ -114,6 +114,34 @@ class Method:
     def statistics(self, mapper):
         return {}
 
+    def set_threads(self, mapper, threads):
+        """Run on ``threads`` threads (0: the default): vtkSMPTools' count."""
+        from vtkmodules.vtkCommonCore import vtkSMPTools
+        vtkSMPTools.Initialize(threads)
+
+
+class ThreadedMethod(Method):
+    """A method pinned to a number of threads, named ``<method>/<threads>t``."""
+
+    def __init__(self, method, threads):
+        super().__init__("%s/%dt" % (method.name, threads), method.description)
+        self.method = method
+        self.threads = threads
+        for attribute in ("kind", "uses_step", "parallel_only", "blend"):
+            setattr(self, attribute, getattr(method, attribute))
+
+    def make_mapper(self):
+        return self.method.make_mapper()
+
+    def statistics(self, mapper):
+        return self.method.statistics(mapper)
+
+    def set_threads(self, mapper, threads):
+        self.method.set_threads(mapper, threads)
+
+    def render_offline(self, renderer, scene, step, repeat):
+        return self.method.render_offline(renderer, scene, step, repeat)
+
 
 class StockMethod(Method):
     def make_mapper(self):
@@ -174,6 +202,10 @@ class FixedPointMethod(Method):
         mapper.SetImageSampleDistance(1.0)
         return mapper
 
+    def set_threads(self, mapper, threads):
+        import os
+        mapper.SetNumberOfThreads(threads or os.cpu_count() or 1)
+
 
 class ReferenceMethod(Method):
     kind = "cpu"
@@ -232,10 +264,15 @@ METHODS = {m.name: m for m in (
 )}
 
 
-def get_method(name):
+def get_method(name, threads=None):
+    """The method of that name; with ``threads``, pinned to that many threads."""
     if name not in METHODS:
         raise HovrError("unknown method %r (known: %s)" % (name, ", ".join(METHODS)))
-    return METHODS[name]
+    if threads is None:
+        return METHODS[name]
+    if not (isinstance(threads, int) and threads >= 1):
+        raise HovrError("the thread count must be a positive integer, got %r" % (threads,))
+    return ThreadedMethod(METHODS[name], threads)
 
 
 class Renderer:
@@ -275,6 +312,7 @@ class Renderer:
         method = get_method(method) if isinstance(method, str) else method
         if method.kind == "cpu":
             scene.step_length(step)  # validates the step
+            method.set_threads(None, getattr(method, "threads", 0))
             return method.render_offline(self, scene, step, repeat)
         return self.render_interleaved([(method, step)], scene, repeat)[0]
 
@@ -312,6 +350,7 @@ class Renderer:
         def frame(index):
             for other, volume in enumerate(volumes):
                 volume.SetVisibility(other == index)
+            runs[index][0].set_threads(mappers[index], getattr(runs[index][0], "threads", 0))
             start = time.perf_counter()
             self._window.Render()
             self._window.WaitForCompletion()
