@@ -1,5 +1,6 @@
 """The Python and C++ examples run and report both pre-integrations beating the stock
-mapper, and the analytic isosurface finding the thin surfaces VTK's sampled one misses."""
+mapper, the analytic isosurface finding the thin surfaces VTK's sampled one misses, and the
+object-order CPU mapper hiding most of the volume with an error like VTK's CPU mapper."""
 
 import os
 import re
@@ -55,4 +56,18 @@ for name, command, output in analytic_runs:
         c.check(stock > 20 and analytic * 10 < stock, "%s analytic example: the analytic "
                 "isosurface misses %d pixels, VTK's at 1/4 voxel %d" % (name, analytic, stock))
     c.check(os.path.isfile(output) and os.path.getsize(output) > 1000, "%s writes a PNG" % name)
+# The object-order example: most non-transparent cells hidden, an error like VTK's CPU mapper.
+process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                       "object_order.py"),
+                          "--output", os.path.join(tmp, "object_order.png"), "--size", "160"],
+                         capture_output=True, text=True)
+print("python", process.stdout.strip())
+c.check(process.returncode == 0, "object-order example exits 0 (%s)" % process.stderr.strip())
+hidden = re.search(r"\(([0-9.]+)% hidden and skipped\)", process.stdout)
+errors = re.search(r"RMSE fixedpoint ([0-9.e-]+), object-order ([0-9.e-]+)", process.stdout)
+c.check(hidden is not None and float(hidden.group(1)) > 50.0,
+        "object-order example: over half of the non-transparent cells hidden")
+c.check(errors is not None and float(errors.group(2)) < 1.5 * float(errors.group(1)) + 0.01,
+        "object-order example: an error comparable to VTK's CPU mapper")
+c.check(os.path.isfile(os.path.join(tmp, "object_order.png")), "object-order example writes a PNG")
 c.finish()

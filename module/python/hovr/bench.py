@@ -215,7 +215,7 @@ def run(config_path, output, log=print, renderer=None):
                     row.update(hm.compare_blend(result.image, reference, scene))
                 row["dataset"] = name
                 dataset_rows.append(row)
-                stem = "%s_%s_step%g" % (name, method.name, step)
+                stem = "%s_%s_step%g" % (name, method.name.replace("/", "-"), step)
                 hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
                 hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
                                 array="Difference", scale=10.0)
