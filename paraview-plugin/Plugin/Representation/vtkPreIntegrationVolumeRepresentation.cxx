@@ -5,6 +5,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkObjectOrderVolumeMapper.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkRectilinearGrid.h"
@@ -27,6 +28,7 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   this->VolumeMapper = mapper;
   this->PreIntegrationMapper = mapper;
   this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
+  this->ObjectOrderMapper = vtkSmartPointer<vtkObjectOrderVolumeMapper>::New();
 }
 
 //------------------------------------------------------------------------------
@@ -74,8 +76,9 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   // input, selects the array, the scalar mode and the cropping planes and sets the mapper on
   // the actor; where it needs vtkSmartVolumeMapper or vtkMultiBlockVolumeMapper it
   // down-casts, so for these mappers those settings are skipped rather than misapplied.
-  const bool analytic = this->Integration >= ANALYTIC_ISOSURFACE;
-  vtkVolumeMapper* chosen = analytic ? this->AnalyticMapper : this->PreIntegrationMapper;
+  vtkVolumeMapper* chosen = this->Integration == OBJECT_ORDER ? this->ObjectOrderMapper
+    : this->Integration >= ANALYTIC_ISOSURFACE                ? this->AnalyticMapper
+                                                              : this->PreIntegrationMapper;
   if (this->VolumeMapper != chosen)
   {
     chosen->SetInputConnection(this->VolumeMapper->GetInputConnection(0, 0));
@@ -110,9 +113,17 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   // Without input (a process that only draws the outline) the mapper draws nothing, so its
   // sample distance is left alone.
   auto* gpuMapper = vtkOpenGLGPUVolumeRayCastMapper::SafeDownCast(this->VolumeMapper);
-  if (gpuMapper && distance > 0.0 && std::isfinite(distance))
+  auto* cpuMapper = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper);
+  if ((gpuMapper || cpuMapper) && distance > 0.0 && std::isfinite(distance))
   {
-    gpuMapper->SetSampleDistance(distance);
+    if (gpuMapper)
+    {
+      gpuMapper->SetSampleDistance(distance);
+    }
+    else
+    {
+      cpuMapper->SetSampleDistance(distance);
+    }
     this->EffectiveSampleDistance = distance;
   }
 }

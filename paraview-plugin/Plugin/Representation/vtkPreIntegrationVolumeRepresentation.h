@@ -18,6 +18,9 @@
  * instead (ANALYTIC_ISOSURFACE, ANALYTIC_MIP, ANALYTIC_MINIP): the exact first hit of the
  * volume property's isosurface values (ParaView's "Isosurfaces" of the volume representation)
  * or the exact maximum or minimum along each ray; the blend mode follows the choice.
+ * OBJECT_ORDER chooses hovr's vtkObjectOrderVolumeMapper: composite rendering on the CPU
+ * (object-order ray casting, for servers without a GPU), in parallel projection; with a
+ * perspective camera it draws with VTK's vtkFixedPointVolumeRayCastMapper after a warning.
  *
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
@@ -47,7 +50,8 @@ public:
   {
     ANALYTIC_ISOSURFACE = 3,
     ANALYTIC_MIP = 4,
-    ANALYTIC_MINIP = 5
+    ANALYTIC_MINIP = 5,
+    OBJECT_ORDER = 6
   };
 
   ///@{
@@ -136,6 +140,7 @@ protected:
   // The two mappers; VolumeMapper points to the one the Integration value chooses.
   vtkSmartPointer<vtkVolumeMapper> PreIntegrationMapper;
   vtkSmartPointer<vtkVolumeMapper> AnalyticMapper;
+  vtkSmartPointer<vtkVolumeMapper> ObjectOrderMapper;
 
   // The mapper's settings start from the mapper's own defaults (set in the constructor).
   int Integration;
