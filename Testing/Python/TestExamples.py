@@ -70,4 +70,13 @@ c.check(hidden is not None and float(hidden.group(1)) > 50.0,
 c.check(errors is not None and float(errors.group(2)) < 1.5 * float(errors.group(1)) + 0.01,
         "object-order example: an error comparable to VTK's CPU mapper")
 c.check(os.path.isfile(os.path.join(tmp, "object_order.png")), "object-order example writes a PNG")
+object_binary = os.path.join(os.environ.get("HOVR_BUILD", ""), "bin", "ObjectOrderVolume")
+if c.check(os.path.isfile(object_binary), "the C++ object-order example is built"):
+    process = subprocess.run([object_binary, os.path.join(tmp, "object_order_cxx.png")],
+                             capture_output=True, text=True)
+    print("c++", process.stdout.strip())
+    hidden = re.search(r"\(([0-9.]+)% hidden and skipped\)", process.stdout)
+    c.check(process.returncode == 0 and hidden is not None and float(hidden.group(1)) > 50.0,
+            "C++ object-order example: over half of the non-transparent cells hidden (%s)"
+            % process.stderr.strip())
 c.finish()
