@@ -82,6 +82,19 @@ public:
   std::vector<int> VisiblePrefix; // visible bins before bin b
   // Per pixel: where its ray enters and leaves the grid's box (t), empty when it misses.
   std::vector<double> Chords;
+  // Shading (0 none, 1 post, 2 pre). Gradients are taken in grid index units (central
+  // differences) and turned into data-space normals by ToData (the transposed
+  // physical-to-index matrix); Light is the headlight in data space.
+  int Shading = 0;
+  double ToData[3][3];
+  double Light[3];
+  float Ambient = 0, Diffuse = 1, Specular = 0, Power = 1;
+  // Pre-shading: each point's quantized normal (octahedral bins, and one more index for "no
+  // gradient") and, per frame, each bin's (ambient + diffuse |n.l|, specular |n.l|^power).
+  std::vector<uint16_t> Directions;
+  vtkDataArray* DirectionScalars = nullptr;
+  vtkMTimeType DirectionTime = 0;
+  std::vector<float> Reflectance;
   bool FrameReady = false;
 
   Frame()
@@ -149,6 +162,35 @@ public:
     return finite;
   }
 
+  // Central-difference gradient at point (x, y, z) in grid index units (one-sided at the
+  // border, 0 where a neighbour is NaN).
+  void Gradient(int x, int y, int z, float g[3]) const
+  {
+    const int p[3] = { x, y, z };
+    for (int a = 0; a < 3; ++a)
+    {
+      int lo[3] = { x, y, z }, hi[3] = { x, y, z };
+      lo[a] = std::max(p[a] - 1, 0);
+      hi[a] = std::min(p[a] + 1, this->Dims[a] - 1);
+      const float d = this->Bricks[this->Address(hi[0], hi[1], hi[2])] -
+        this->Bricks[this->Address(lo[0], lo[1], lo[2])];
+      g[a] = hi[a] > lo[a] && !std::isnan(d) ? d / static_cast<float>(hi[a] - lo[a]) : 0.0f;
+    }
+  }
+
+  // |n.l| for the headlight of the data-space normal of an index-space gradient; -1 when the
+  // gradient vanishes (no normal: ambient light only).
+  double LightCosine(const float g[3]) const
+  {
+    double n[3];
+    for (int r = 0; r < 3; ++r)
+    {
+      n[r] = this->ToData[r][0] * g[0] + this->ToData[r][1] * g[1] + this->ToData[r][2] * g[2];
+    }
+    const double norm = vtkMath::Norm(n);
+    return norm > 0.0 ? std::abs(vtkMath::Dot(n, this->Light)) / norm : -1.0;
+  }
+
   // Whether the opacity can be non-zero somewhere in [lo, hi] (conservative: whole bins).
   bool Visible(double lo, double hi) const
   {
@@ -187,6 +229,58 @@ public:
     return rect[0] <= rect[1] && rect[2] <= rect[3];
   }
 };
+
+// Trilinear interpolation of 8 corner values (x + 2 y + 4 z) at local coordinates u.
+float Trilinear(const float v[8], const float u[3])
+{
+  const float x0 = v[0] + u[0] * (v[1] - v[0]);
+  const float x1 = v[2] + u[0] * (v[3] - v[2]);
+  const float x2 = v[4] + u[0] * (v[5] - v[4]);
+  const float x3 = v[6] + u[0] * (v[7] - v[6]);
+  const float y0 = x0 + u[1] * (x1 - x0);
+  const float y1 = x2 + u[1] * (x3 - x2);
+  return y0 + u[2] * (y1 - y0);
+}
+
+// Octahedral bins of unit directions for pre-shading: Bins x Bins of them (8100, about the
+// paper's 8192).
+constexpr int Bins = 90;
+
+// The octahedral map of a unit direction to [-1, 1]^2 and back.
+void FoldOctahedron(double p[2])
+{
+  const double q[2] = { (1.0 - std::abs(p[1])) * (p[0] >= 0.0 ? 1.0 : -1.0),
+    (1.0 - std::abs(p[0])) * (p[1] >= 0.0 ? 1.0 : -1.0) };
+  p[0] = q[0];
+  p[1] = q[1];
+}
+
+int DirectionBin(const double n[3])
+{
+  const double l1 = std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
+  double p[2] = { n[0] / l1, n[1] / l1 };
+  if (n[2] < 0.0)
+  {
+    FoldOctahedron(p);
+  }
+  const int i = std::min(std::max(static_cast<int>((p[0] + 1.0) * 0.5 * Bins), 0), Bins - 1);
+  const int j = std::min(std::max(static_cast<int>((p[1] + 1.0) * 0.5 * Bins), 0), Bins - 1);
+  return i + Bins * j;
+}
+
+void BinDirection(int bin, double n[3])
+{
+  double p[2] = { ((bin % Bins) + 0.5) / Bins * 2.0 - 1.0,
+    ((bin / Bins) + 0.5) / Bins * 2.0 - 1.0 };
+  n[2] = 1.0 - std::abs(p[0]) - std::abs(p[1]);
+  if (n[2] < 0.0)
+  {
+    FoldOctahedron(p);
+  }
+  n[0] = p[0];
+  n[1] = p[1];
+  vtkMath::Normalize(n);
+}
 
 // One tile's walk of the octree: front to back, skipping transparent, off-tile and hidden
 // nodes, sampling every pixel ray through each remaining cell.
@@ -316,6 +410,29 @@ public:
     const size_t cell =
       c[0] + static_cast<size_t>(I.Cells[0]) * (c[1] + static_cast<size_t>(I.Cells[1]) * c[2]);
     this->CellMarks[cell].store(1, std::memory_order_relaxed);
+    // Shading data of the 8 corners: gradients (post-shading, interpolated per sample) or the
+    // reflectance of their quantized normals (pre-shading, section 4.3.2: the vertices are
+    // shaded, the shading interpolated).
+    float gradients[3][8], lit[2][8];
+    for (int v = 0; I.Shading && v < 8; ++v)
+    {
+      const int x = c[0] + (v & 1), y = c[1] + ((v >> 1) & 1), z = c[2] + (v >> 2);
+      if (I.Shading == 1)
+      {
+        float g[3];
+        I.Gradient(x, y, z, g);
+        for (int a = 0; a < 3; ++a)
+        {
+          gradients[a][v] = g[a];
+        }
+      }
+      else
+      {
+        const float* r = I.Reflectance.data() + 2 * I.Directions[I.Address(x, y, z)];
+        lit[0][v] = r[0];
+        lit[1][v] = r[1];
+      }
+    }
     const double step = I.Step;
     for (int py = rect[2]; py <= rect[3]; ++py)
     {
@@ -406,9 +523,27 @@ public:
               -std::expm1(std::log1p(-static_cast<double>(alpha)) * (to - from) / step));
           }
           const float weight = (1.0f - pixel[3]) * alpha;
+          float shade = 1.0f, highlight = 0.0f;
+          if (I.Shading == 1)
+          {
+            float g[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              g[a] = Trilinear(gradients[a], u);
+            }
+            const double nl = I.LightCosine(g);
+            shade = nl < 0.0 ? I.Ambient : I.Ambient + I.Diffuse * static_cast<float>(nl);
+            highlight = nl > 0.0 ? I.Specular * static_cast<float>(std::pow(nl, I.Power)) : 0.0f;
+          }
+          else if (I.Shading == 2)
+          {
+            shade = Trilinear(lit[0], u);
+            highlight = Trilinear(lit[1], u);
+          }
           for (int ch = 0; ch < 3; ++ch)
           {
-            pixel[ch] += weight * (a0[ch] + f * (a0[ch + 4] - a0[ch]));
+            pixel[ch] +=
+              weight * std::min((a0[ch] + f * (a0[ch + 4] - a0[ch])) * shade + highlight, 1.0f);
           }
           pixel[3] += weight;
           if (pixel[3] >= I.Threshold)
@@ -452,7 +587,8 @@ vtkMTimeType vtkObjectOrderRayCaster::GetMTime()
 //------------------------------------------------------------------------------
 vtkIdType vtkObjectOrderRayCaster::GetMemorySize() const
 {
-  return static_cast<vtkIdType>(this->Internals->Bricks.size() * sizeof(float)) +
+  return static_cast<vtkIdType>(this->Internals->Bricks.size() * sizeof(float) +
+           this->Internals->Directions.size() * sizeof(uint16_t)) +
     this->Octree->GetMemorySize();
 }
 
@@ -483,11 +619,6 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     vtkErrorMacro("Object-order ray casting needs a parallel projection (every cell projects "
                   "to the same shape); the camera has a perspective one.");
     return 1;
-  }
-  if (this->VolumeProperty->GetShade(0))
-  {
-    vtkWarningMacro("Shading is not implemented in the object-order ray caster yet; the "
-                    "volume is rendered unshaded.");
   }
 
   // The volume: bricks and octree, once per data.
@@ -622,6 +753,82 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
         }
       }
     });
+  // Shading: the headlight (towards the camera) in data space, where normals are taken.
+  I.Shading = this->VolumeProperty->GetShade(0) ? (this->ShadingMode == PRE_SHADING ? 2 : 1) : 0;
+  if (I.Shading)
+  {
+    const double* m = input->GetPhysicalToIndexMatrix()->GetData();
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        I.ToData[r][k] = m[4 * k + r]; // transposed: data gradient = M^T index gradient
+      }
+    }
+    // Minus the view direction, taken back through the volume's placement (exact for rigid
+    // placements; scaled ones tilt normals, as for any mapper shading in data space).
+    double light[4] = { -d[0], -d[1], -d[2], 0.0 };
+    if (this->VolumeMatrix)
+    {
+      vtkNew<vtkMatrix4x4> inverse;
+      vtkMatrix4x4::Invert(this->VolumeMatrix, inverse);
+      inverse->MultiplyPoint(light, light);
+    }
+    std::copy(light, light + 3, I.Light);
+    vtkMath::Normalize(I.Light);
+    I.Ambient = static_cast<float>(this->VolumeProperty->GetAmbient(0));
+    I.Diffuse = static_cast<float>(this->VolumeProperty->GetDiffuse(0));
+    I.Specular = static_cast<float>(this->VolumeProperty->GetSpecular(0));
+    I.Power = static_cast<float>(this->VolumeProperty->GetSpecularPower(0));
+  }
+  if (I.Shading == 2)
+  {
+    if (I.DirectionScalars != scalars || I.DirectionTime < scalars->GetMTime() ||
+      I.Directions.size() != I.Bricks.size())
+    {
+      // Once per volume: each point's quantized data-space normal.
+      I.Directions.assign(I.Bricks.size(), static_cast<uint16_t>(Bins * Bins));
+      vtkSMPTools::For(0,
+        dims[2],
+        [&](vtkIdType k0, vtkIdType k1)
+        {
+          for (int z = static_cast<int>(k0); z < k1; ++z)
+          {
+            for (int y = 0; y < dims[1]; ++y)
+            {
+              for (int x = 0; x < dims[0]; ++x)
+              {
+                float g[3];
+                I.Gradient(x, y, z, g);
+                double n[3];
+                for (int r = 0; r < 3; ++r)
+                {
+                  n[r] = I.ToData[r][0] * g[0] + I.ToData[r][1] * g[1] + I.ToData[r][2] * g[2];
+                }
+                if (vtkMath::Normalize(n) > 0.0)
+                {
+                  I.Directions[I.Address(x, y, z)] = static_cast<uint16_t>(DirectionBin(n));
+                }
+              }
+            }
+          }
+        });
+      I.DirectionScalars = scalars;
+      I.DirectionTime = scalars->GetMTime();
+    }
+    // Per frame: the reflectance map of the bins; the last entry has no normal (ambient).
+    I.Reflectance.resize(2 * (Bins * Bins + 1));
+    for (int bin = 0; bin < Bins * Bins; ++bin)
+    {
+      double n[3];
+      BinDirection(bin, n);
+      const double nl = std::abs(vtkMath::Dot(n, I.Light));
+      I.Reflectance[2 * bin] = I.Ambient + I.Diffuse * static_cast<float>(nl);
+      I.Reflectance[2 * bin + 1] = I.Specular * static_cast<float>(std::pow(nl, I.Power));
+    }
+    I.Reflectance[2 * Bins * Bins] = I.Ambient;
+    I.Reflectance[2 * Bins * Bins + 1] = 0.0f;
+  }
   I.Step = this->SampleDistance;
   I.Interleaved = this->InterleavedSampling;
   I.Removal = this->HiddenVolumeRemoval;
@@ -700,6 +907,7 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HiddenVolumeRemoval: " << this->HiddenVolumeRemoval << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "ShadingMode: " << this->ShadingMode << "\n";
   os << indent << "VolumeMatrix: " << this->VolumeMatrix << "\n";
   os << indent << "NumberOfNonTransparentCells: " << this->NumberOfNonTransparentCells << "\n";
   os << indent << "NumberOfNodesVisited: " << this->NumberOfNodesVisited << "\n";

@@ -27,8 +27,15 @@
  *     (section 4.3.4), so a cell's corners and its neighbours share cache lines;
  *   - the image is cut into tiles of TileSize pixels rendered in parallel with vtkSMPTools,
  *     each with its own occlusion map: the image does not depend on the number of threads.
- * Shading is not implemented yet: a property with Shade on is rendered unshaded, with a
- * warning. Perspective cameras are an error (the paper's method needs every cell to project
+ * Shading (when the volume property's Shade is on): a white headlight along the view, with
+ * the property's ambient, diffuse, specular and specular power, two-sided (|n.l|), normals
+ * from central differences of the data; a sample's colour is the transfer function's times
+ * (ambient + diffuse |n.l|) plus specular |n.l|^power (ambient only where the gradient
+ * vanishes). ShadingMode chooses where: POST_SHADING interpolates the 8 corner gradients at
+ * every sample and shades it; PRE_SHADING is the paper's (section 4.3.2): every point's
+ * normal is quantized once per volume to one of 8100 directions, a reflectance map of those
+ * directions is computed per frame, and the samples interpolate the shading of their cell's
+ * 8 vertices. Perspective cameras are an error (the paper's method needs every cell to project
  * to the same shape); vtkObjectOrderVolumeMapper falls back to VTK's own ray caster for them.
  *
  * Counters of the last update (the paper's Table 1): non-transparent cells rendered (not
@@ -90,6 +97,23 @@ public:
   vtkGetMacro(OpacityThreshold, double);
   ///@}
 
+  enum ShadingModes
+  {
+    POST_SHADING = 0, ///< gradient interpolated and shaded at every sample
+    PRE_SHADING = 1   ///< quantized normals, vertices shaded, shading interpolated
+  };
+
+  ///@{
+  /**
+   * How shading is computed when the volume property shades (see the class description).
+   * Pre-shading keeps 2 bytes per point of quantized normals. Initial value is POST_SHADING.
+   */
+  vtkSetClampMacro(ShadingMode, int, POST_SHADING, PRE_SHADING);
+  vtkGetMacro(ShadingMode, int);
+  void SetShadingModeToPostShading() { this->SetShadingMode(POST_SHADING); }
+  void SetShadingModeToPreShading() { this->SetShadingMode(PRE_SHADING); }
+  ///@}
+
   ///@{
   /**
    * Placement of the volume in the world (a vtkVolume's matrix, from data to world
@@ -132,7 +156,7 @@ public:
   vtkMinMaxOctree* GetOctree() { return this->Octree; }
 
   /**
-   * Bytes of the bricked copy of the volume and of the octree.
+   * Bytes of the bricked copy of the volume, the quantized normals (pre-shading) and the octree.
    */
   vtkIdType GetMemorySize() const;
 
@@ -154,6 +178,7 @@ protected:
   bool HiddenVolumeRemoval = true;
   double OpacityThreshold = 0.999;
   int TileSize = 32;
+  int ShadingMode = POST_SHADING;
   vtkIdType NumberOfNonTransparentCells = 0;
   vtkIdType NumberOfNodesVisited = 0;
   vtkIdType NumberOfSamples = 0;

@@ -12,8 +12,8 @@
  * Composite blending of single-component point scalars in parallel projection. Anything else
  * (a perspective camera, another blend mode, cropping, several components) is drawn by an
  * internal vtkFixedPointVolumeRayCastMapper with the same sample distance, after a warning
- * given once per reason: never a wrong image. Shading is not implemented yet (the image is
- * unshaded, with the caster's warning).
+ * given once per reason: never a wrong image. Shading follows the volume property; the
+ * caster's ShadingMode (GetCaster()) chooses post- or pre-shading.
  */
 #ifndef vtkObjectOrderVolumeMapper_h
 #define vtkObjectOrderVolumeMapper_h

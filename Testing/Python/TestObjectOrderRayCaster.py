@@ -11,6 +11,10 @@ and with and without hidden volume removal; on an opaque transfer function hidde
 removal leaves out over 65% of the non-transparent cells; editing the opacity every frame never
 rebuilds the octree.
 
+Shading: on a linear field (one normal) the shaded image is the unshaded one lit by the
+documented formula, exactly with post-shading and within 0.01 with pre-shading; both agree on
+Marschner-Lobb within 0.04 RMSE (measured 0.026: vertex shading interpolated against gradients).
+
 Extremes and bad input: a fully transparent transfer function gives an empty image and no
 cell; a fully opaque one an opaque silhouette; NaN voxels leave no NaN; perspective cameras, a
 zero or negative step, vectors and flat volumes are errors with a transparent image.
@@ -198,9 +202,45 @@ flat.SetDimensions(8, 8, 1)
 flat.AllocateScalars(11, 1)
 bad = caster(flat, prop, camera, 0.05)
 c.check(bad.messages.errors and "2 points" in bad.messages.errors[0], "flat volume: error")
-shaded = spikes()
-shaded.ShadeOn()
-warned = caster(ml, shaded, camera, 0.05)
-c.check(warned.messages.warnings and "not implemented" in warned.messages.warnings[0],
-        "shading: a warning that it is not implemented yet")
+
+# Shading. A linear field has one normal everywhere, so the shaded image is the unshaded one
+# times (ambient + diffuse |n.l|) plus specular |n.l|^power times alpha, exactly for post-
+# shading and to the quantization of the normal (8100 directions) for pre-shading.
+ramp = vtkImageData()
+ramp.SetDimensions(24, 20, 16)
+ramp.SetSpacing(1.0, 1.5, 0.8)
+gx, gy, gz = numpy.meshgrid(numpy.arange(24), numpy.arange(20) * 1.5, numpy.arange(16) * 0.8,
+                            indexing="ij")
+field = (0.02 * gx + 0.01 * gy - 0.015 * gz + 0.3).transpose(2, 1, 0).ravel()
+ramp.GetPointData().SetScalars(numpy_to_vtk(field.astype(numpy.float32), deep=1))
+lit = spikes(5.0)
+lit.SetAmbient(0.2)
+lit.SetDiffuse(0.7)
+lit.SetSpecular(0.3)
+lit.SetSpecularPower(8.0)
+view = parallel(ramp, (0.4, -1.0, 0.7))
+plain = pixels(caster(ramp, lit, view, 0.4))
+lit.ShadeOn()
+normal = numpy.array([0.02, 0.01, -0.015])
+normal /= numpy.linalg.norm(normal)
+light = -numpy.array(view.GetDirectionOfProjection())
+nl = abs(float(normal @ light))
+expected = plain.copy()
+expected[:, :3] = plain[:, :3] * (0.2 + 0.7 * nl) + (0.3 * nl ** 8.0) * plain[:, 3:4]
+for mode, tolerance in (("PostShading", 1e-4), ("PreShading", 0.01)):
+    shaded = caster(ramp, lit, view, 0.4, ShadingMode=getattr(hovr.vtkObjectOrderRayCaster,
+                                                              mode.upper().replace("SHADING",
+                                                                                   "_SHADING")))
+    error = numpy.abs(pixels(shaded) - expected).max()
+    print("%s on a linear field: largest difference %.2e" % (mode, error))
+    c.check(plain[:, 3].max() > 0.3 and error < tolerance and not shaded.messages.warnings,
+            "%s: the linear field shaded as expected (%.1e)" % (mode, error))
+# Pre- and post-shading agree on Marschner-Lobb.
+ml_lit = spikes()
+ml_lit.ShadeOn()
+post = pixels(caster(ml, ml_lit, camera, 0.05))
+pre = pixels(caster(ml, ml_lit, camera, 0.05, ShadingMode=1))
+print("Marschner-Lobb, pre- against post-shading: RMSE %.4f" % rmse(pre, post))
+c.check(rmse(pre, post) < 0.04 and not numpy.array_equal(pre, post),
+        "pre- and post-shading agree within 0.04 RMSE (they interpolate different things)")
 c.finish()
