@@ -5,6 +5,7 @@
 #include "vtkCameraRayModel.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
+#include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkFloatArray.h"
 #include "vtkHierarchicalOcclusionMap.h"
 #include "vtkImageData.h"
@@ -80,6 +81,12 @@ public:
   int Entries = 0;
   double S0 = 0.0, InvStep = 1.0;
   std::vector<int> VisiblePrefix; // visible bins before bin b
+  // Pre-integrated classification: the first-order table over (front, back) scalar for one
+  // step (RGBA premultiplied, front fastest), entries at S0 + e / SegmentInvStep.
+  bool Preintegrated = false;
+  const float* Segments = nullptr;
+  int SegmentEntries = 0;
+  double SegmentInvStep = 1.0;
   // Per pixel: where its ray enters and leaves the grid's box (t), empty when it misses.
   std::vector<double> Chords;
   // Shading (0 none, 1 post, 2 pre). Gradients are taken in grid index units (central
@@ -296,7 +303,44 @@ public:
   int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
   bool Render = true;
   bool Removal = true;
-  float S0, InvStep, LastEntry; // the table's mapping, in float for the sample loop
+  float S0, InvStep, LastEntry;    // the table's mapping, in float for the sample loop
+  float SegmentScale, SegmentLast; // the pre-integration table's mapping
+  float* PreviousScalar = nullptr; // per pixel: the last sample's scalar (pre-integration)
+  double* PreviousT = nullptr;     // and its t (NaN: none yet)
+
+  // Front-to-back "over" of a piece of ray with premultiplied colour rgb and opacity alpha;
+  // true when the pixel becomes opaque.
+  bool Over(float* pixel, const float rgb[3], float alpha, int lx, int ly)
+  {
+    const float transmittance = 1.0f - pixel[3];
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      pixel[ch] += transmittance * rgb[ch];
+    }
+    pixel[3] += transmittance * alpha;
+    if (pixel[3] >= this->I.Threshold)
+    {
+      this->Occlusion.SetPixelOpaque(lx, ly);
+      return true;
+    }
+    return false;
+  }
+
+  // A piece of length `length` point-sampled at the table entry a0 + f (alpha of one step).
+  static void PointPiece(const float* a0,
+    float f,
+    double length,
+    double step,
+    float rgb[3],
+    float& alpha)
+  {
+    const double full = a0[3] + f * (a0[7] - a0[3]);
+    alpha = static_cast<float>(-std::expm1(std::log1p(-full) * length / step));
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      rgb[ch] = alpha * (a0[ch] + f * (a0[ch + 4] - a0[ch]));
+    }
+  }
   vtkIdType Nodes = 0, Samples = 0, Cells = 0;
 
   TileWalker(const Frame& internals, const vtkMinMaxOctree* octree)
@@ -306,6 +350,8 @@ public:
     , S0(static_cast<float>(internals.S0))
     , InvStep(static_cast<float>(internals.InvStep))
     , LastEntry(static_cast<float>(internals.Entries - 1))
+    , SegmentScale(static_cast<float>(internals.SegmentInvStep))
+    , SegmentLast(static_cast<float>(internals.SegmentEntries - 1))
   {
     for (int a = 0; a < 3; ++a)
     {
@@ -505,24 +551,7 @@ public:
           const int e0 = std::min(static_cast<int>(e), I.Entries - 2);
           const float f = e - static_cast<float>(e0);
           const float* a0 = I.Table.data() + 4 * e0;
-          float alpha = a0[3] + f * (a0[7] - a0[3]);
           ++this->Samples;
-          if (alpha <= 0.0f)
-          {
-            continue;
-          }
-          // Each sample stands for the part of the ray closer to it than to its neighbours,
-          // the first one from the box entry on and the last one up to the exit (midpoint
-          // rule with the ends included), so no part of the chord is left out or counted
-          // twice whatever the phase.
-          if (t - step < te || t + step >= tx)
-          {
-            const double from = t - step < te ? te : t - 0.5 * step;
-            const double to = t + step >= tx ? tx : t + 0.5 * step;
-            alpha = static_cast<float>(
-              -std::expm1(std::log1p(-static_cast<double>(alpha)) * (to - from) / step));
-          }
-          const float weight = (1.0f - pixel[3]) * alpha;
           float shade = 1.0f, highlight = 0.0f;
           if (I.Shading == 1)
           {
@@ -540,15 +569,79 @@ public:
             shade = Trilinear(lit[0], u);
             highlight = Trilinear(lit[1], u);
           }
-          for (int ch = 0; ch < 3; ++ch)
+          // The pieces of ray this sample accounts for, front to back (at most two).
+          float rgb[2][3], alpha[2];
+          int pieces = 0;
+          const bool last = t + step >= tx;
+          if (I.Preintegrated)
           {
-            pixel[ch] +=
-              weight * std::min((a0[ch] + f * (a0[ch + 4] - a0[ch])) * shade + highlight, 1.0f);
+            // Pre-integrated segments between consecutive samples (Engel et al.'s table, the
+            // project's vtkFirstOrderPreIntegrationTable); point-sampled pieces from the chord's
+            // entry (or after a gap of transparent cells) to the first sample and from the
+            // last one to the exit.
+            const double previousT = this->PreviousT[p];
+            if (previousT == previousT && t - previousT < 1.5 * step)
+            {
+              float front = (this->PreviousScalar[p] - this->S0) * this->SegmentScale;
+              float back = (s - this->S0) * this->SegmentScale;
+              front = std::min(std::max(front, 0.0f), this->SegmentLast);
+              back = std::min(std::max(back, 0.0f), this->SegmentLast);
+              const int i0 = std::min(static_cast<int>(front), I.SegmentEntries - 2);
+              const int j0 = std::min(static_cast<int>(back), I.SegmentEntries - 2);
+              const float fi = front - i0, fj = back - j0;
+              const float* e00 = I.Segments + 4 * (i0 + static_cast<size_t>(I.SegmentEntries) * j0);
+              const float* e01 = e00 + 4 * I.SegmentEntries;
+              float entry[4];
+              for (int ch = 0; ch < 4; ++ch)
+              {
+                const float lower = e00[ch] + fi * (e00[ch + 4] - e00[ch]);
+                const float upper = e01[ch] + fi * (e01[ch + 4] - e01[ch]);
+                entry[ch] = lower + fj * (upper - lower);
+              }
+              alpha[pieces] = entry[3];
+              std::copy(entry, entry + 3, rgb[pieces]);
+            }
+            else
+            {
+              PointPiece(
+                a0, f, t - (t - step < te ? te : t - 0.5 * step), step, rgb[pieces], alpha[pieces]);
+            }
+            ++pieces;
+            if (last)
+            {
+              PointPiece(a0, f, tx - t, step, rgb[pieces], alpha[pieces]);
+              ++pieces;
+            }
+            this->PreviousScalar[p] = s;
+            this->PreviousT[p] = t;
           }
-          pixel[3] += weight;
-          if (pixel[3] >= I.Threshold)
+          else
           {
-            this->Occlusion.SetPixelOpaque(lx, ly);
+            // Each sample stands for the part of the ray closer to it than to its neighbours,
+            // the first one from the box entry on and the last one up to the exit (midpoint
+            // rule with the ends included), so no part of the chord is left out or counted
+            // twice whatever the phase.
+            const double from = t - step < te ? te : t - 0.5 * step;
+            const double to = last ? tx : t + 0.5 * step;
+            PointPiece(a0, f, to - from, step, rgb[pieces], alpha[pieces]);
+            ++pieces;
+          }
+          bool opaque = false;
+          for (int piece = 0; piece < pieces && !opaque; ++piece)
+          {
+            if (!(alpha[piece] > 0.0f))
+            {
+              continue;
+            }
+            for (int ch = 0; ch < 3; ++ch)
+            {
+              rgb[piece][ch] =
+                std::min(rgb[piece][ch] * shade + highlight * alpha[piece], alpha[piece]);
+            }
+            opaque = this->Over(pixel, rgb[piece], alpha[piece], lx, ly);
+          }
+          if (opaque)
+          {
             break;
           }
         }
@@ -565,6 +658,7 @@ class vtkObjectOrderRayCaster::vtkInternals : public Frame
 //------------------------------------------------------------------------------
 vtkObjectOrderRayCaster::vtkObjectOrderRayCaster()
   : Octree(vtkMinMaxOctree::New())
+  , SegmentTable(vtkFirstOrderPreIntegrationTable::New())
   , Internals(new vtkInternals)
 {
 }
@@ -573,6 +667,7 @@ vtkObjectOrderRayCaster::vtkObjectOrderRayCaster()
 vtkObjectOrderRayCaster::~vtkObjectOrderRayCaster()
 {
   this->Octree->Delete();
+  this->SegmentTable->Delete();
   this->SetVolumeMatrix(nullptr);
   delete this->Internals;
 }
@@ -829,6 +924,23 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     I.Reflectance[2 * Bins * Bins] = I.Ambient;
     I.Reflectance[2 * Bins * Bins + 1] = 0.0f;
   }
+  // Pre-integrated classification: the first-order table for one step over the data range.
+  I.Preintegrated = this->Classification == PREINTEGRATED;
+  if (I.Preintegrated)
+  {
+    this->SegmentTable->SetVolumeProperty(this->VolumeProperty);
+    this->SegmentTable->SetSegmentLength(this->SampleDistance);
+    this->SegmentTable->SetScalarRange(range);
+    this->SegmentTable->SetTableSize(vtkPreIntegrationTable::SuggestTableSize(
+      scalars->GetDataType(), range, this->Sampler, 256, 1024, 8.0)); // prepared by PrepareFrame
+    if (!this->SegmentTable->Update())
+    {
+      return 1;
+    }
+    I.Segments = this->SegmentTable->GetTable()->GetPointer(0);
+    I.SegmentEntries = this->SegmentTable->GetTableSize();
+    I.SegmentInvStep = (I.SegmentEntries - 1) / (range[1] - range[0]);
+  }
   I.Step = this->SampleDistance;
   I.Interleaved = this->InterleavedSampling;
   I.Removal = this->HiddenVolumeRemoval;
@@ -844,6 +956,9 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   {
     marks[c].store(0, std::memory_order_relaxed);
   }
+  std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
+  std::vector<double> previousT(
+    static_cast<size_t>(I.Width) * I.Height, std::numeric_limits<double>::quiet_NaN());
   vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
   float* image = rgba->GetPointer(0);
   vtkSMPTools::For(0,
@@ -854,6 +969,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       TileWalker walker(I, this->Octree);
       walker.Image = image;
       walker.CellMarks = marks.get();
+      walker.PreviousScalar = previousScalar.data();
+      walker.PreviousT = previousT.data();
       for (vtkIdType t = t0; t < t1; ++t)
       {
         const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);
@@ -908,6 +1025,7 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "ShadingMode: " << this->ShadingMode << "\n";
+  os << indent << "Classification: " << this->Classification << "\n";
   os << indent << "VolumeMatrix: " << this->VolumeMatrix << "\n";
   os << indent << "NumberOfNonTransparentCells: " << this->NumberOfNonTransparentCells << "\n";
   os << indent << "NumberOfNodesVisited: " << this->NumberOfNodesVisited << "\n";

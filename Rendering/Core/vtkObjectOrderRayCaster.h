@@ -20,9 +20,12 @@
  *     to the cell where t falls (section 3.2's depth indicator, kept as the exact t); with
  *     InterleavedSampling the phase is SampleDistance / 2 on every other pixel in a
  *     checkerboard (section 3.3), trading staircase artifacts for noise;
- *   - classification after interpolation: colour and extinction from a table over the data
- *     range (sized by vtkPreIntegrationTable::SuggestTableSize), each sample weighted
- *     alpha = 1 - exp(-tau SampleDistance) and composited front to back;
+ *   - classification after interpolation, chosen by Classification: PREINTEGRATED (default)
+ *     composites the segment between consecutive samples of a ray from the first-order
+ *     pre-integration table (vtkFirstOrderPreIntegrationTable, Engel et al.; the ray's ends
+ *     are point-sampled pieces); POINT_SAMPLED is the paper's: colour and extinction of each
+ *     sample from a table over the data range (vtkPreIntegrationTable::SuggestTableSize),
+ *     weighted alpha = 1 - exp(-tau length) for the part of the ray nearest to it;
  *   - the volume is copied once into float bricks of 32^3 points, Morton-ordered inside
  *     (section 4.3.4), so a cell's corners and its neighbours share cache lines;
  *   - the image is cut into tiles of TileSize pixels rendered in parallel with vtkSMPTools,
@@ -49,6 +52,7 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
 
+class vtkFirstOrderPreIntegrationTable;
 class vtkMatrix4x4;
 class vtkMinMaxOctree;
 
@@ -95,6 +99,23 @@ public:
    */
   vtkSetClampMacro(OpacityThreshold, double, 1e-3, 1.0);
   vtkGetMacro(OpacityThreshold, double);
+  ///@}
+
+  enum Classifications
+  {
+    POINT_SAMPLED = 0, ///< each sample's colour and opacity (the paper's)
+    PREINTEGRATED = 1  ///< each segment between samples from a pre-integration table
+  };
+
+  ///@{
+  /**
+   * How samples are classified (see the class description). Pre-integration costs a 2D table
+   * (256^2 to 1024^2 entries, 1 to 16 MiB) rebuilt when the transfer function or the step
+   * changes, and is far more accurate for narrow transfer-function features. Initial value
+   * is PREINTEGRATED.
+   */
+  vtkSetClampMacro(Classification, int, POINT_SAMPLED, PREINTEGRATED);
+  vtkGetMacro(Classification, int);
   ///@}
 
   enum ShadingModes
@@ -179,6 +200,8 @@ protected:
   double OpacityThreshold = 0.999;
   int TileSize = 32;
   int ShadingMode = POST_SHADING;
+  int Classification = PREINTEGRATED;
+  vtkFirstOrderPreIntegrationTable* SegmentTable;
   vtkIdType NumberOfNonTransparentCells = 0;
   vtkIdType NumberOfNodesVisited = 0;
   vtkIdType NumberOfSamples = 0;

@@ -222,8 +222,14 @@ class ObjectOrderMethod(Method):
 
     parallel_only = True
 
+    def __init__(self, name, description, classification):
+        super().__init__(name, description)
+        self.classification = classification
+
     def make_mapper(self):
-        return gl.vtkObjectOrderVolumeMapper()
+        mapper = gl.vtkObjectOrderVolumeMapper()
+        mapper.GetCaster().SetClassification(self.classification)
+        return mapper
 
     def statistics(self, mapper):
         caster = mapper.GetCaster()
@@ -259,7 +265,11 @@ METHODS = {m.name: m for m in (
     AnalyticMethod("minip-stock", "VTK's sampled minimum intensity projection at the step",
                    "minip", False),
     ObjectOrderMethod("objectorder", "object-order ray casting on the CPU: min-max octree, "
-                      "hidden volume removal, parallel projection (vtkObjectOrderRayCaster)"),
+                      "hidden volume removal, pre-integrated segments, parallel projection "
+                      "(vtkObjectOrderVolumeMapper)", core.vtkObjectOrderRayCaster.PREINTEGRATED),
+    ObjectOrderMethod("objectorder-point", "object-order ray casting with the paper's "
+                      "point-sampled classification (vtkObjectOrderVolumeMapper)",
+                      core.vtkObjectOrderRayCaster.POINT_SAMPLED),
     FixedPointMethod("fixedpoint", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper)"),
 )}
 
