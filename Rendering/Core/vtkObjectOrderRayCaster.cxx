@@ -101,6 +101,7 @@ public:
   std::vector<uint16_t> Directions;
   vtkDataArray* DirectionScalars = nullptr;
   vtkMTimeType DirectionTime = 0;
+  double DirectionToData[3][3] = {}; // the ToData the directions were quantized with
   std::vector<float> Reflectance;
   bool FrameReady = false;
 
@@ -157,20 +158,21 @@ public:
       });
   }
 
-  // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z; false when one is NaN.
+  // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z; false when one is not finite
+  // (NaN or infinite: the cell is transparent).
   bool Corners(int i, int j, int k, float c[8]) const
   {
     bool finite = true;
     for (int n = 0; n < 8; ++n)
     {
       c[n] = this->Bricks[this->Address(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2))];
-      finite = finite && !std::isnan(c[n]);
+      finite = finite && std::isfinite(c[n]);
     }
     return finite;
   }
 
   // Central-difference gradient at point (x, y, z) in grid index units (one-sided at the
-  // border, 0 where a neighbour is NaN).
+  // border, 0 where a neighbour is not finite).
   void Gradient(int x, int y, int z, float g[3]) const
   {
     const int p[3] = { x, y, z };
@@ -181,7 +183,7 @@ public:
       hi[a] = std::min(p[a] + 1, this->Dims[a] - 1);
       const float d = this->Bricks[this->Address(hi[0], hi[1], hi[2])] -
         this->Bricks[this->Address(lo[0], lo[1], lo[2])];
-      g[a] = hi[a] > lo[a] && !std::isnan(d) ? d / static_cast<float>(hi[a] - lo[a]) : 0.0f;
+      g[a] = hi[a] > lo[a] && std::isfinite(d) ? d / static_cast<float>(hi[a] - lo[a]) : 0.0f;
     }
   }
 
@@ -229,10 +231,13 @@ public:
       std::abs(this->Inverse[0][2]) * h[2] + 1e-6;
     const double hv = std::abs(this->Inverse[1][0]) * h[0] + std::abs(this->Inverse[1][1]) * h[1] +
       std::abs(this->Inverse[1][2]) * h[2] + 1e-6;
-    rect[0] = std::max(static_cast<int>(std::ceil(u - hu)), clip[0]);
-    rect[1] = std::min(static_cast<int>(std::floor(u + hu)), clip[1]);
-    rect[2] = std::max(static_cast<int>(std::ceil(v - hv)), clip[2]);
-    rect[3] = std::min(static_cast<int>(std::floor(v + hv)), clip[3]);
+    // Clipped in double before the conversion, which would overflow under extreme zoom.
+    auto bound = [](double x, int lo, int hi)
+    { return static_cast<int>(std::min(std::max(x, lo - 1.0), hi + 1.0)); };
+    rect[0] = std::max(bound(std::ceil(u - hu), clip[0], clip[1]), clip[0]);
+    rect[1] = std::min(bound(std::floor(u + hu), clip[0], clip[1]), clip[1]);
+    rect[2] = std::max(bound(std::ceil(v - hv), clip[2], clip[3]), clip[2]);
+    rect[3] = std::min(bound(std::floor(v + hv), clip[2], clip[3]), clip[3]);
     return rect[0] <= rect[1] && rect[2] <= rect[3];
   }
 };
@@ -307,6 +312,45 @@ public:
   float SegmentScale, SegmentLast; // the pre-integration table's mapping
   float* PreviousScalar = nullptr; // per pixel: the last sample's scalar (pre-integration)
   double* PreviousT = nullptr;     // and its t (NaN: none yet)
+  float* PendingEntry = nullptr;   // its classification-table coordinate while it still owes
+                                   // its trailing half step (NaN: nothing owed)
+  float* PendingShade = nullptr;   // and its shading (factor, highlight), 2 per pixel
+
+  // The trailing half step a pre-integrated sample owes (point-sampled), and its shading.
+  void PendingPiece(size_t p, float rgb[3], float& alpha, float shading[2]) const
+  {
+    const float e = this->PendingEntry[p];
+    const int e0 = std::min(static_cast<int>(e), this->I.Entries - 2);
+    PointPiece(this->I.Table.data() + 4 * e0, e - e0, 0.5 * this->I.Step, this->I.Step, rgb, alpha);
+    shading[0] = this->PendingShade[2 * p];
+    shading[1] = this->PendingShade[2 * p + 1];
+  }
+
+  // After the walk of a tile: the trailing half steps still owed (rays whose last visible
+  // sample was followed by transparent cells only).
+  void FlushPending()
+  {
+    for (int py = this->Clip[2]; this->PendingEntry && py <= this->Clip[3]; ++py)
+    {
+      for (int px = this->Clip[0]; px <= this->Clip[1]; ++px)
+      {
+        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(this->I.Width) * py;
+        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
+        if (!(this->PendingEntry[p] == this->PendingEntry[p]) ||
+          this->Occlusion.IsPixelOpaque(lx, ly))
+        {
+          continue;
+        }
+        float rgb[3], alpha, shading[2];
+        this->PendingPiece(p, rgb, alpha, shading);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          rgb[ch] = std::min(rgb[ch] * shading[0] + shading[1] * alpha, alpha);
+        }
+        this->Over(this->Image + 4 * p, rgb, alpha, lx, ly);
+      }
+    }
+  }
 
   // Front-to-back "over" of a piece of ray with premultiplied colour rgb and opacity alpha;
   // true when the pixel becomes opaque.
@@ -364,6 +408,10 @@ public:
     std::copy(clip, clip + 4, this->Clip);
     this->Occlusion.Initialize(clip[1] - clip[0] + 1, clip[3] - clip[2] + 1);
     this->Node(this->Octree->GetNumberOfLevels(), 0, 0, 0);
+    if (this->Render)
+    {
+      this->FlushPending();
+    }
   }
 
   void Node(int level, int i, int j, int k)
@@ -516,10 +564,16 @@ public:
         const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
         const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
         const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
+        // The first sample position at or after tin, whatever the division rounds to (a
+        // sample exactly on a face belongs to the cell behind it, and to no other).
         double n = std::ceil((tin - phase) / step);
         if (phase + n * step < tin)
         {
           n += 1.0;
+        }
+        while (phase + (n - 1.0) * step >= tin)
+        {
+          n -= 1.0;
         }
         float* pixel = this->Image + 4 * p;
         // Local coordinates in float from the cell entry, where they are small: the ray at
@@ -569,8 +623,8 @@ public:
             shade = Trilinear(lit[0], u);
             highlight = Trilinear(lit[1], u);
           }
-          // The pieces of ray this sample accounts for, front to back (at most two).
-          float rgb[2][3], alpha[2];
+          // The pieces of ray this sample accounts for, front to back (at most three).
+          float rgb[3][3], alpha[3], shades[3][2];
           int pieces = 0;
           const bool last = t + step >= tx;
           if (I.Preintegrated)
@@ -580,7 +634,14 @@ public:
             // entry (or after a gap of transparent cells) to the first sample and from the
             // last one to the exit.
             const double previousT = this->PreviousT[p];
-            if (previousT == previousT && t - previousT < 1.5 * step)
+            const bool joined = previousT == previousT && t - previousT < 1.5 * step;
+            if (!joined && this->PendingEntry[p] == this->PendingEntry[p])
+            {
+              // After a gap of transparent cells: the previous sample's trailing half step.
+              this->PendingPiece(p, rgb[pieces], alpha[pieces], shades[pieces]);
+              ++pieces;
+            }
+            if (joined)
             {
               float front = (this->PreviousScalar[p] - this->S0) * this->SegmentScale;
               float back = (s - this->S0) * this->SegmentScale;
@@ -606,14 +667,23 @@ public:
               PointPiece(
                 a0, f, t - (t - step < te ? te : t - 0.5 * step), step, rgb[pieces], alpha[pieces]);
             }
+            shades[pieces][0] = shade;
+            shades[pieces][1] = highlight;
             ++pieces;
             if (last)
             {
               PointPiece(a0, f, tx - t, step, rgb[pieces], alpha[pieces]);
+              shades[pieces][0] = shade;
+              shades[pieces][1] = highlight;
               ++pieces;
             }
             this->PreviousScalar[p] = s;
             this->PreviousT[p] = t;
+            // Until the next sample joins it by a segment, this one owes its trailing half
+            // step (composited after a gap, or at the end of the walk).
+            this->PendingEntry[p] = last ? std::numeric_limits<float>::quiet_NaN() : e;
+            this->PendingShade[2 * p] = shade;
+            this->PendingShade[2 * p + 1] = highlight;
           }
           else
           {
@@ -624,6 +694,8 @@ public:
             const double from = t - step < te ? te : t - 0.5 * step;
             const double to = last ? tx : t + 0.5 * step;
             PointPiece(a0, f, to - from, step, rgb[pieces], alpha[pieces]);
+            shades[pieces][0] = shade;
+            shades[pieces][1] = highlight;
             ++pieces;
           }
           bool opaque = false;
@@ -635,8 +707,8 @@ public:
             }
             for (int ch = 0; ch < 3; ++ch)
             {
-              rgb[piece][ch] =
-                std::min(rgb[piece][ch] * shade + highlight * alpha[piece], alpha[piece]);
+              rgb[piece][ch] = std::min(
+                rgb[piece][ch] * shades[piece][0] + shades[piece][1] * alpha[piece], alpha[piece]);
             }
             opaque = this->Over(pixel, rgb[piece], alpha[piece], lx, ly);
           }
@@ -879,7 +951,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   if (I.Shading == 2)
   {
     if (I.DirectionScalars != scalars || I.DirectionTime < scalars->GetMTime() ||
-      I.Directions.size() != I.Bricks.size())
+      I.Directions.size() != I.Bricks.size() ||
+      !std::equal(&I.ToData[0][0], &I.ToData[0][0] + 9, &I.DirectionToData[0][0]))
     {
       // Once per volume: each point's quantized data-space normal.
       I.Directions.assign(I.Bricks.size(), static_cast<uint16_t>(Bins * Bins));
@@ -910,6 +983,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
         });
       I.DirectionScalars = scalars;
       I.DirectionTime = scalars->GetMTime();
+      std::copy(&I.ToData[0][0], &I.ToData[0][0] + 9, &I.DirectionToData[0][0]);
     }
     // Per frame: the reflectance map of the bins; the last entry has no normal (ambient).
     I.Reflectance.resize(2 * (Bins * Bins + 1));
@@ -959,6 +1033,9 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
   std::vector<double> previousT(
     static_cast<size_t>(I.Width) * I.Height, std::numeric_limits<double>::quiet_NaN());
+  std::vector<float> pendingEntry(I.Preintegrated ? static_cast<size_t>(I.Width) * I.Height : 0,
+    std::numeric_limits<float>::quiet_NaN());
+  std::vector<float> pendingShade(2 * pendingEntry.size());
   vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
   float* image = rgba->GetPointer(0);
   vtkSMPTools::For(0,
@@ -971,6 +1048,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       walker.CellMarks = marks.get();
       walker.PreviousScalar = previousScalar.data();
       walker.PreviousT = previousT.data();
+      walker.PendingEntry = I.Preintegrated ? pendingEntry.data() : nullptr;
+      walker.PendingShade = pendingShade.data();
       for (vtkIdType t = t0; t < t1; ++t)
       {
         const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);

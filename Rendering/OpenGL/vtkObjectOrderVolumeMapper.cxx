@@ -4,6 +4,7 @@
 #include "vtkCamera.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFixedPointVolumeRayCastMapper.h"
 #include "vtkFloatArray.h"
@@ -55,12 +56,30 @@ const char* vtkObjectOrderVolumeMapper::GetFallbackReason(vtkRenderer* ren, vtkV
     return "object-order ray casting does not crop";
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInputDataObject(0, 0));
-  vtkDataArray* scalars = input ? input->GetPointData()->GetScalars() : nullptr;
+  vtkDataArray* scalars = input ? this->GetRenderedArray(input) : nullptr;
   if (scalars && scalars->GetNumberOfComponents() != 1)
   {
     return "object-order ray casting renders single-component point scalars";
   }
   return nullptr;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkObjectOrderVolumeMapper::GetRenderedArray(vtkImageData* input)
+{
+  // The mapper's scalar mode and array selection, as VTK's mappers read them.
+  vtkPointData* points = input->GetPointData();
+  switch (this->ScalarMode)
+  {
+    case VTK_SCALAR_MODE_DEFAULT:
+    case VTK_SCALAR_MODE_USE_POINT_DATA:
+      return points->GetScalars();
+    case VTK_SCALAR_MODE_USE_POINT_FIELD_DATA:
+      return this->ArrayAccessMode == VTK_GET_ARRAY_BY_ID ? points->GetArray(this->ArrayId)
+                                                          : points->GetArray(this->ArrayName);
+    default:
+      return nullptr; // cell data
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -70,6 +89,15 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (!input)
   {
     vtkErrorMacro("No input image to render.");
+    return;
+  }
+  if (!this->GetRenderedArray(input))
+  {
+    // Neither this mapper nor vtkFixedPointVolumeRayCastMapper (which crashes on them) draws
+    // cell scalars: an error, nothing drawn.
+    vtkErrorMacro("Object-order ray casting renders point scalars; the scalar mode and array "
+                  "selection choose no point array (cell data?). Nothing is drawn.");
+    this->LastFrameFellBack = false;
     return;
   }
   if (const char* reason = this->GetFallbackReason(ren, vol))
@@ -86,6 +114,15 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->Fallback->SetCroppingRegionPlanes(this->CroppingRegionPlanes);
     this->Fallback->SetCroppingRegionFlags(this->CroppingRegionFlags);
     this->Fallback->SetSampleDistance(this->SampleDistance);
+    this->Fallback->SetScalarMode(this->ScalarMode);
+    if (this->ArrayAccessMode == VTK_GET_ARRAY_BY_ID)
+    {
+      this->Fallback->SelectScalarArray(this->ArrayId);
+    }
+    else
+    {
+      this->Fallback->SelectScalarArray(this->ArrayName);
+    }
     this->Fallback->Render(ren, vol);
     return;
   }
@@ -100,6 +137,17 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   this->InvokeEvent(vtkCommand::VolumeMapperRenderStartEvent, nullptr);
   this->Caster->SetInputData(input);
+  vtkDataArray* scalars = this->GetRenderedArray(input);
+  if (scalars && scalars != input->GetPointData()->GetScalars() && scalars->GetName())
+  {
+    this->Caster->SetInputArrayToProcess(
+      0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, scalars->GetName());
+  }
+  else
+  {
+    this->Caster->SetInputArrayToProcess(
+      0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+  }
   this->Caster->SetVolumeProperty(vol->GetProperty());
   this->Caster->SetVolumeMatrix(vol->GetMatrix());
   this->Caster->SetCamera(ren->GetActiveCamera());

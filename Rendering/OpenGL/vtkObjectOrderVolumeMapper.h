@@ -9,10 +9,12 @@
  * vtkSMPTools, the same image for any number of threads), and the float image is drawn over
  * the viewport, one texel per pixel, composited over what is already there.
  *
- * Composite blending of single-component point scalars in parallel projection. Anything else
- * (a perspective camera, another blend mode, cropping, several components) is drawn by an
+ * Composite blending of single-component point scalars (the array the scalar mode and
+ * SelectScalarArray choose) in parallel projection. Anything else (a perspective camera,
+ * another blend mode, cropping, several components) is drawn by an
  * internal vtkFixedPointVolumeRayCastMapper with the same sample distance, after a warning
- * given once per reason: never a wrong image. Shading follows the volume property; the
+ * given once per reason: never a wrong image. Cell scalars, which that mapper does not draw
+ * either, are an error and nothing is drawn. Shading follows the volume property; the
  * caster's ShadingMode (GetCaster()) chooses post- or pre-shading.
  */
 #ifndef vtkObjectOrderVolumeMapper_h
@@ -23,7 +25,9 @@
 
 #include <string> // For std::string
 
+class vtkDataArray;
 class vtkFixedPointVolumeRayCastMapper;
+class vtkImageData;
 class vtkObjectOrderRayCaster;
 class vtkTextureObject;
 
@@ -60,6 +64,9 @@ public:
 protected:
   vtkObjectOrderVolumeMapper();
   ~vtkObjectOrderVolumeMapper() override;
+
+  // The point array the scalar mode and array selection choose, or nullptr (cell data).
+  vtkDataArray* GetRenderedArray(vtkImageData* input);
 
   // Why the caster cannot draw this frame, or nullptr.
   const char* GetFallbackReason(vtkRenderer* ren, vtkVolume* vol);

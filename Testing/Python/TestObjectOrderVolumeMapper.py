@@ -2,7 +2,8 @@
 image (exactly: a float texture drawn texel for pixel); a volume moved by its matrix with the camera moved alike
 gives the same image; what it cannot draw (a perspective camera, maximum intensity, cropping)
 is drawn by vtkFixedPointVolumeRayCastMapper after one warning per reason, and drawing
-returns to the object-order caster when the reason goes away.
+returns to the object-order caster when the reason goes away; the array the scalar mode and
+SelectScalarArray choose is the one drawn, and cell data is an error with nothing drawn.
 """
 
 import numpy
@@ -92,7 +93,36 @@ for reason, toggle in cases:
     toggle(False)
     window.Render()
     c.check(not mapper.GetLastFrameFellBack(), "%s undone: object-order again" % reason)
+# The array the scalar mode and SelectScalarArray choose is the one drawn: a second point
+# array, selected by name, gives the image of that array made active; cell data is an error.
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
+two = vtkImageData()
+two.DeepCopy(scene.image)
+flipped = numpy_to_vtk(1.0 - vtk_to_numpy(two.GetPointData().GetScalars()), deep=1)
+flipped.SetName("flipped")
+two.GetPointData().AddArray(flipped)
+mapper.SetInputData(two)
+mapper.SetScalarModeToUsePointFieldData()
+mapper.SelectScalarArray("flipped")
+window.Render()
+c.check(not mapper.GetLastFrameFellBack(), "a selected point array: drawn by the caster")
+selected = vtk_to_numpy(mapper.GetCaster().GetOutput().GetPointData().GetScalars()).copy()
+active = vtkImageData()
+active.DeepCopy(scene.image)
+active.GetPointData().SetScalars(flipped)
+mapper.SetInputData(active)
+mapper.SetScalarModeToDefault()
+window.Render()
+made_active = vtk_to_numpy(mapper.GetCaster().GetOutput().GetPointData().GetScalars())
+c.check(numpy.array_equal(selected, made_active) and not numpy.array_equal(selected, computed),
+        "the selected array is the one drawn")
 c.check(not messages.errors, "no errors")
+mapper.SetScalarModeToUseCellData()
+window.Render()
+c.check(len(messages.errors) == 1 and "point scalars" in messages.errors[0],
+        "cell data: an error, nothing drawn (VTK's CPU mapper does not draw it either)")
+mapper.SetScalarModeToDefault()
 window.Finalize()
 renderer.close()
 c.finish()
