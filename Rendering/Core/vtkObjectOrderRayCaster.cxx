@@ -22,6 +22,7 @@
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -80,7 +81,12 @@ public:
   std::vector<float> Table;
   int Entries = 0;
   double S0 = 0.0, InvStep = 1.0;
-  std::vector<int> VisiblePrefix; // visible bins before bin b
+  std::vector<int> VisiblePrefix;      // visible bins before bin b
+  std::array<double, 5> TableKey = {}; // what the two tables above were built for
+  // Per cell: the last frame that rendered it (counts each cell once, whatever the tiles).
+  std::unique_ptr<std::atomic<uint32_t>[]> CellFrames;
+  size_t CellFrameCount = 0;
+  uint32_t FrameNumber = 0;
   // Pre-integrated classification: the first-order table over (front, back) scalar for one
   // step (RGBA premultiplied, front fastest), entries at S0 + e / SegmentInvStep.
   bool Preintegrated = false;
@@ -302,7 +308,8 @@ public:
   const Frame& I;
   const vtkMinMaxOctree* Octree;
   float* Image; // W x H RGBA
-  std::atomic<unsigned char>* CellMarks;
+  std::atomic<uint32_t>* CellFrames;
+  uint32_t FrameStamp = 0;
   vtkHierarchicalOcclusionMap Occlusion;
   int Clip[4];  // tile pixels [x0, x1] x [y0, y1]
   int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
@@ -503,7 +510,11 @@ public:
     const auto& I = this->I;
     const size_t cell =
       c[0] + static_cast<size_t>(I.Cells[0]) * (c[1] + static_cast<size_t>(I.Cells[1]) * c[2]);
-    this->CellMarks[cell].store(1, std::memory_order_relaxed);
+    if (this->CellFrames[cell].exchange(this->FrameStamp, std::memory_order_relaxed) !=
+      this->FrameStamp)
+    {
+      ++this->Cells; // first tile to render this cell in this frame
+    }
     // Shading data of the 8 corners: gradients (post-shading, interpolated per sample) or the
     // reflectance of their quantized normals (pre-shading, section 4.3.2: the vertices are
     // shaded, the shading interpolated).
@@ -819,24 +830,35 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   I.Entries = this->TableSize = entries;
   I.S0 = range[0];
   I.InvStep = (entries - 1) / (range[1] - range[0]);
-  std::vector<double> rgbTau(4 * static_cast<size_t>(entries));
-  this->Sampler->Sample(range[0], range[1], entries, rgbTau.data());
-  I.Table.resize(4 * static_cast<size_t>(entries));
-  for (int e = 0; e < entries; ++e)
+  // Rebuilt only when the transfer functions, the range, the size or the step change.
+  const std::array<double, 5> tableKey = { static_cast<double>(this->Sampler->GetMTime()),
+    range[0],
+    range[1],
+    static_cast<double>(entries),
+    this->SampleDistance };
+  if (tableKey != I.TableKey)
   {
-    for (int ch = 0; ch < 3; ++ch)
+    I.TableKey = tableKey;
+    std::vector<double> rgbTau(4 * static_cast<size_t>(entries));
+    this->Sampler->Sample(range[0], range[1], entries, rgbTau.data());
+    I.Table.resize(4 * static_cast<size_t>(entries));
+    for (int e = 0; e < entries; ++e)
     {
-      I.Table[4 * e + ch] = static_cast<float>(rgbTau[4 * e + ch]);
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        I.Table[4 * e + ch] = static_cast<float>(rgbTau[4 * e + ch]);
+      }
+      I.Table[4 * e + 3] =
+        static_cast<float>(-std::expm1(-rgbTau[4 * e + 3] * this->SampleDistance));
     }
-    I.Table[4 * e + 3] = static_cast<float>(-std::expm1(-rgbTau[4 * e + 3] * this->SampleDistance));
-  }
-  I.VisiblePrefix.assign(entries, 0);
-  for (int b = 0; b + 1 < entries; ++b)
-  {
-    const double lo = range[0] + b / I.InvStep, hi = range[0] + (b + 1) / I.InvStep;
-    const bool visible = this->Sampler->GetMaximumOpacity(lo, hi) > 0.0 ||
-      I.Table[4 * b + 3] > 0.0f || I.Table[4 * b + 7] > 0.0f;
-    I.VisiblePrefix[b + 1] = I.VisiblePrefix[b] + (visible ? 1 : 0);
+    I.VisiblePrefix.assign(entries, 0);
+    for (int b = 0; b + 1 < entries; ++b)
+    {
+      const double lo = range[0] + b / I.InvStep, hi = range[0] + (b + 1) / I.InvStep;
+      const bool visible = this->Sampler->GetMaximumOpacity(lo, hi) > 0.0 ||
+        I.Table[4 * b + 3] > 0.0f || I.Table[4 * b + 7] > 0.0f;
+      I.VisiblePrefix[b + 1] = I.VisiblePrefix[b] + (visible ? 1 : 0);
+    }
   }
 
   // Pixel rays in grid index (0-based from the extent's first point).
@@ -1025,10 +1047,23 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   const int tile = this->TileSize;
   const int tilesX = (I.Width + tile - 1) / tile, tilesY = (I.Height + tile - 1) / tile;
   const size_t cellCount = static_cast<size_t>(I.Cells[0]) * I.Cells[1] * I.Cells[2];
-  std::unique_ptr<std::atomic<unsigned char>[]> marks(new std::atomic<unsigned char>[cellCount]);
-  for (size_t c = 0; c < cellCount; ++c)
+  if (I.CellFrameCount != cellCount)
   {
-    marks[c].store(0, std::memory_order_relaxed);
+    I.CellFrames.reset(new std::atomic<uint32_t>[cellCount]);
+    I.CellFrameCount = cellCount;
+    for (size_t c = 0; c < cellCount; ++c)
+    {
+      I.CellFrames[c].store(0, std::memory_order_relaxed);
+    }
+    I.FrameNumber = 0;
+  }
+  if (++I.FrameNumber == 0) // wrapped: clear the stamps once
+  {
+    for (size_t c = 0; c < cellCount; ++c)
+    {
+      I.CellFrames[c].store(0, std::memory_order_relaxed);
+    }
+    I.FrameNumber = 1;
   }
   std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
   std::vector<double> previousT(
@@ -1036,7 +1071,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   std::vector<float> pendingEntry(I.Preintegrated ? static_cast<size_t>(I.Width) * I.Height : 0,
     std::numeric_limits<float>::quiet_NaN());
   std::vector<float> pendingShade(2 * pendingEntry.size());
-  vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
+  vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0), cells(0);
   float* image = rgba->GetPointer(0);
   vtkSMPTools::For(0,
     static_cast<vtkIdType>(tilesX) * tilesY,
@@ -1045,7 +1080,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     {
       TileWalker walker(I, this->Octree);
       walker.Image = image;
-      walker.CellMarks = marks.get();
+      walker.CellFrames = I.CellFrames.get();
+      walker.FrameStamp = I.FrameNumber;
       walker.PreviousScalar = previousScalar.data();
       walker.PreviousT = previousT.data();
       walker.PendingEntry = I.Preintegrated ? pendingEntry.data() : nullptr;
@@ -1061,6 +1097,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       }
       nodes.Local() += walker.Nodes;
       samples.Local() += walker.Samples;
+      cells.Local() += walker.Cells;
     });
   for (vtkIdType n : nodes)
   {
@@ -1070,9 +1107,9 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   {
     this->NumberOfSamples += s;
   }
-  for (size_t c = 0; c < cellCount; ++c)
+  for (vtkIdType n : cells)
   {
-    this->NumberOfNonTransparentCells += marks[c].load(std::memory_order_relaxed);
+    this->NumberOfNonTransparentCells += n;
   }
   this->UpdateProgress(1.0);
   return 1;
