@@ -431,24 +431,16 @@ public:
       lo[a] = index[a] << level;
       hi[a] = std::min((index[a] + 1) << level, this->I.Cells[a]);
     }
-    float corners[8];
+    // Nodes: the stored range first (one lookup), then the screen tests. Cells: the screen
+    // tests first, so that hidden cells never load their 8 corners.
     float range[2];
-    if (level == 0)
-    {
-      if (!this->I.Corners(i, j, k, corners))
-      {
-        return; // NaN: the interpolant is NaN in the whole cell, which is transparent
-      }
-      range[0] = *std::min_element(corners, corners + 8);
-      range[1] = *std::max_element(corners, corners + 8);
-    }
-    else
+    if (level > 0)
     {
       this->Octree->GetNodeRange(level, i, j, k, range);
-    }
-    if (!this->I.Visible(range[0], range[1]))
-    {
-      return;
+      if (!this->I.Visible(range[0], range[1]))
+      {
+        return;
+      }
     }
     int rect[4];
     if (!this->I.Rectangle(lo, hi, this->Clip, rect))
@@ -465,6 +457,16 @@ public:
     }
     if (level == 0)
     {
+      float corners[8];
+      if (!this->I.Corners(i, j, k, corners))
+      {
+        return; // NaN: the interpolant is NaN in the whole cell, which is transparent
+      }
+      if (!this->I.Visible(
+            *std::min_element(corners, corners + 8), *std::max_element(corners, corners + 8)))
+      {
+        return;
+      }
       if (this->Render)
       {
         this->Cell(index, corners, rect);
