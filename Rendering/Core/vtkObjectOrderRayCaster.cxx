@@ -193,17 +193,31 @@ public:
     }
   }
 
+  // The data-space normal (not normalised) of an index-space gradient.
+  void DataNormal(const float g[3], double n[3]) const
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      n[r] = this->ToData[r][0] * g[0] + this->ToData[r][1] * g[1] + this->ToData[r][2] * g[2];
+    }
+  }
+
   // |n.l| for the headlight of the data-space normal of an index-space gradient; -1 when the
   // gradient vanishes (no normal: ambient light only).
   double LightCosine(const float g[3]) const
   {
     double n[3];
-    for (int r = 0; r < 3; ++r)
-    {
-      n[r] = this->ToData[r][0] * g[0] + this->ToData[r][1] * g[1] + this->ToData[r][2] * g[2];
-    }
+    this->DataNormal(g, n);
     const double norm = vtkMath::Norm(n);
     return norm > 0.0 ? std::abs(vtkMath::Dot(n, this->Light)) / norm : -1.0;
+  }
+
+  // The lighting of a normal at cosine nl (-1: none): the factor on the transfer function's
+  // colour (ambient + diffuse |n.l|) and the added highlight (specular |n.l|^power).
+  void Lighting(double nl, float& shade, float& highlight) const
+  {
+    shade = nl < 0.0 ? this->Ambient : this->Ambient + this->Diffuse * static_cast<float>(nl);
+    highlight = nl > 0.0 ? this->Specular * static_cast<float>(std::pow(nl, this->Power)) : 0.0f;
   }
 
   // Whether the opacity can be non-zero somewhere in [lo, hi] (conservative: whole bins).
@@ -605,13 +619,7 @@ public:
           {
             u[a] = std::min(std::max(entry[a] + dt * direction[a], 0.0f), 1.0f);
           }
-          const float x0 = corners[0] + u[0] * (corners[1] - corners[0]);
-          const float x1 = corners[2] + u[0] * (corners[3] - corners[2]);
-          const float x2 = corners[4] + u[0] * (corners[5] - corners[4]);
-          const float x3 = corners[6] + u[0] * (corners[7] - corners[6]);
-          const float y0 = x0 + u[1] * (x1 - x0);
-          const float y1 = x2 + u[1] * (x3 - x2);
-          const float s = y0 + u[2] * (y1 - y0);
+          const float s = Trilinear(corners, u);
           // Classification after interpolation, linear between table entries.
           float e = (s - this->S0) * this->InvStep;
           e = std::min(std::max(e, 0.0f), this->LastEntry);
@@ -627,9 +635,7 @@ public:
             {
               g[a] = Trilinear(gradients[a], u);
             }
-            const double nl = I.LightCosine(g);
-            shade = nl < 0.0 ? I.Ambient : I.Ambient + I.Diffuse * static_cast<float>(nl);
-            highlight = nl > 0.0 ? I.Specular * static_cast<float>(std::pow(nl, I.Power)) : 0.0f;
+            I.Lighting(I.LightCosine(g), shade, highlight);
           }
           else if (I.Shading == 2)
           {
@@ -868,7 +874,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   I.Width = std::max(size[0], 1);
   I.Height = std::max(size[1], 1);
   // World -> data (the volume's placement) -> grid index.
-  vtkNew<vtkMatrix4x4> toIndex;
+  vtkNew<vtkMatrix4x4> worldToData; // the inverse of the placement (identity without one)
   if (this->VolumeMatrix)
   {
     if (this->VolumeMatrix->Determinant() == 0.0)
@@ -876,9 +882,10 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       vtkErrorMacro("The volume matrix is singular.");
       return 1;
     }
-    vtkMatrix4x4::Invert(this->VolumeMatrix, toIndex);
+    vtkMatrix4x4::Invert(this->VolumeMatrix, worldToData);
   }
-  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), toIndex, toIndex);
+  vtkNew<vtkMatrix4x4> toIndex;
+  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), worldToData, toIndex);
   const int* extent = input->GetExtent();
   for (int r = 0; r < 3; ++r)
   {
@@ -959,12 +966,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     // Minus the view direction, taken back through the volume's placement (exact for rigid
     // placements; scaled ones tilt normals, as for any mapper shading in data space).
     double light[4] = { -d[0], -d[1], -d[2], 0.0 };
-    if (this->VolumeMatrix)
-    {
-      vtkNew<vtkMatrix4x4> inverse;
-      vtkMatrix4x4::Invert(this->VolumeMatrix, inverse);
-      inverse->MultiplyPoint(light, light);
-    }
+    worldToData->MultiplyPoint(light, light);
     std::copy(light, light + 3, I.Light);
     vtkMath::Normalize(I.Light);
     I.Ambient = static_cast<float>(this->VolumeProperty->GetAmbient(0));
@@ -993,10 +995,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
                 float g[3];
                 I.Gradient(x, y, z, g);
                 double n[3];
-                for (int r = 0; r < 3; ++r)
-                {
-                  n[r] = I.ToData[r][0] * g[0] + I.ToData[r][1] * g[1] + I.ToData[r][2] * g[2];
-                }
+                I.DataNormal(g, n);
                 if (vtkMath::Normalize(n) > 0.0)
                 {
                   I.Directions[I.Address(x, y, z)] = static_cast<uint16_t>(DirectionBin(n));
@@ -1015,9 +1014,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     {
       double n[3];
       BinDirection(bin, n);
-      const double nl = std::abs(vtkMath::Dot(n, I.Light));
-      I.Reflectance[2 * bin] = I.Ambient + I.Diffuse * static_cast<float>(nl);
-      I.Reflectance[2 * bin + 1] = I.Specular * static_cast<float>(std::pow(nl, I.Power));
+      I.Lighting(
+        std::abs(vtkMath::Dot(n, I.Light)), I.Reflectance[2 * bin], I.Reflectance[2 * bin + 1]);
     }
     I.Reflectance[2 * Bins * Bins] = I.Ambient;
     I.Reflectance[2 * Bins * Bins + 1] = 0.0f;
