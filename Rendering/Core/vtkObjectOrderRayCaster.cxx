@@ -83,7 +83,8 @@ public:
   double S0 = 0.0, InvStep = 1.0;
   std::vector<int> VisiblePrefix;      // visible bins before bin b
   std::array<double, 5> TableKey = {}; // what the two tables above were built for
-  // Per cell: the last frame that rendered it (counts each cell once, whatever the tiles).
+  // Per cell, at the brick address of its first corner: the last frame that rendered it
+  // (counts each cell once, whatever the tiles).
   std::unique_ptr<std::atomic<uint32_t>[]> CellFrames;
   size_t CellFrameCount = 0;
   uint32_t FrameNumber = 0;
@@ -524,8 +525,9 @@ public:
   void Cell(const int c[3], const float corners[8], const int rect[4])
   {
     const auto& I = this->I;
-    const size_t cell =
-      c[0] + static_cast<size_t>(I.Cells[0]) * (c[1] + static_cast<size_t>(I.Cells[1]) * c[2]);
+    // Stamps at the brick address of the cell's first corner: neighbouring cells, which the
+    // octree walk renders one after another, share cache lines.
+    const size_t cell = I.Address(c[0], c[1], c[2]);
     if (this->CellFrames[cell].exchange(this->FrameStamp, std::memory_order_relaxed) !=
       this->FrameStamp)
     {
@@ -1046,7 +1048,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   // Tiles in parallel; each pixel is written by its tile only.
   const int tile = this->TileSize;
   const int tilesX = (I.Width + tile - 1) / tile, tilesY = (I.Height + tile - 1) / tile;
-  const size_t cellCount = static_cast<size_t>(I.Cells[0]) * I.Cells[1] * I.Cells[2];
+  const size_t cellCount = I.Bricks.size(); // one stamp per brick address
   if (I.CellFrameCount != cellCount)
   {
     I.CellFrames.reset(new std::atomic<uint32_t>[cellCount]);
