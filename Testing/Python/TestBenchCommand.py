@@ -18,6 +18,7 @@ config = {
     "repeat": 2,
     "methods": ["stock", "preint1"],
     "steps": [1, 2],
+    "baseline": ["stock", 1],
     "datasets": [
         {"name": "ml17", "input": "marschner-lobb:17",
          "tf": os.path.join(PRESETS, "transfer-functions", "marschner-lobb-spikes.json"),
@@ -44,10 +45,29 @@ for row in rows:
                                                                      key))
     c.check(float(row["rmse"]) > 0 and float(row["rmse"]) < 0.5, "plausible RMSE %s" % row["rmse"])
     c.check(row["ms_ratio_to_stock"] != "", "ratio to stock in the same run")
+    c.check(row["ms_ratio_paired"] != "" and float(row["ms_ratio_paired_min"]) <=
+            float(row["ms_ratio_paired"]) <= float(row["ms_ratio_paired_max"]),
+            "paired ratio to the baseline, between its extremes")
     stem = "ml17_%s_step%g" % (row["method"], float(row["step"]))
     for suffix in (".png", "_diff.png"):
         c.check(os.path.isfile(os.path.join(out, "images", stem + suffix)), stem + suffix)
 stock = {float(r["step"]): float(r["rmse"]) for r in rows if r["method"] == "stock"}
+
+base_row = [r for r in rows if r["method"] == "stock" and float(r["step"]) == 1][0]
+c.check(float(base_row["ms_ratio_paired"]) == 1.0, "the baseline's paired ratio is 1")
+
+# Paired ratios: round by round, then the median (here 2, where the ratio of the medians is
+# 3); none for runs that were not interleaved or whose rounds do not pair up.
+from hovr import bench as hb
+paired = hb.paired_ratio({"_times": [10.0, 40.0, 30.0], "_interleaved": True},
+                         {"_times": [10.0, 20.0, 10.0], "_interleaved": True})
+c.check(paired == {"ms_ratio_paired": 2.0, "ms_ratio_paired_min": 1.0,
+                   "ms_ratio_paired_max": 3.0}, "paired ratio round by round: %s" % paired)
+c.check(hb.paired_ratio({"_times": [1.0], "_interleaved": False},
+                        {"_times": [1.0], "_interleaved": True}) == {} and
+        hb.paired_ratio({"_times": [1.0, 2.0], "_interleaved": True},
+                        {"_times": [1.0], "_interleaved": True}) == {},
+        "no paired ratio without interleaved rounds that pair up")
 c.check(stock[1] < stock[2], "stock error shrinks with the step (%s)" % stock)
 for name in ("tradeoff.png", "summary.txt", os.path.join("images", "ml17_reference.png")):
     c.check(os.path.isfile(os.path.join(out, name)), name + " written")

@@ -39,7 +39,9 @@ a message. Per-dataset entries may override "methods" and "steps".
 
 GPU runs of a dataset are timed in interleaved rounds (one frame of each method and step per
 round), so that load changes on a shared machine hit them alike and the time ratios to the
-stock mapper stay meaningful. Every image is compared with the reference integrator's
+stock mapper stay meaningful; against the baseline, ``ms_ratio_paired`` (with its smallest and
+largest value) is the median of the per-round ratios, steadier than the ratio of the medians
+(``ms_ratio_to_baseline``) when the load changes within a run. Every image is compared with the reference integrator's
 (cached under ``cache/``). Written
 to the output folder: ``results.csv`` (one row per dataset, method and step), ``images/``
 (renderings and 10x difference images), ``tradeoff.png`` (error against time per frame) and
@@ -50,6 +52,7 @@ import csv
 import hashlib
 import json
 import os
+import statistics
 
 from . import io as hio
 from . import methods as hm
@@ -58,7 +61,8 @@ from .io import HovrError
 CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
               "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
               "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
-              "rmse_ratio_to_baseline", "table_size", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
+              "rmse_ratio_to_baseline", "ms_ratio_paired", "ms_ratio_paired_min",
+              "ms_ratio_paired_max", "table_size", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
               "corner_gpu_bytes",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
@@ -210,6 +214,9 @@ def run(config_path, output, log=print, renderer=None):
             for (method, step), result in zip(runs, results):
                 errors, difference = hm.compare(result.image, reference)
                 row = result.summary(method.name, step)
+                # GPU runs were timed in interleaved rounds: their frames pair up by round.
+                row["_times"] = result.times_ms
+                row["_interleaved"] = method.kind == "gpu"
                 row.update(errors)
                 if scene.blend != "composite":
                     row.update(hm.compare_blend(result.image, reference, scene))
@@ -276,10 +283,28 @@ def _add_ratios(rows, baseline=None):
         if base and base["median_ms"] > 0 and base["rmse"] > 0:
             row["ms_ratio_to_stock"] = row["median_ms"] / base["median_ms"]
             row["rmse_ratio_to_stock"] = row["rmse"] / base["rmse"]
-        if base_row and base_row["median_ms"] > 0 and base_row["rmse"] > 0:
+        # The time ratio does not need an RMSE ratio: a baseline may match the reference
+        # exactly (a MIP whose transfer function is flat where the methods differ).
+        if base_row and base_row["median_ms"] > 0:
             row["baseline"] = "%s@%g" % (base_row["method"], base_row["step"])
             row["ms_ratio_to_baseline"] = row["median_ms"] / base_row["median_ms"]
-            row["rmse_ratio_to_baseline"] = row["rmse"] / base_row["rmse"]
+            row["rmse_ratio_to_baseline"] = (row["rmse"] / base_row["rmse"]
+                                             if base_row["rmse"] > 0 else float("nan"))
+            row.update(paired_ratio(row, base_row))
+
+
+def paired_ratio(row, base_row):
+    """The time ratio of two runs timed in the same interleaved rounds, round by round: the
+    median, smallest and largest of the per-round ratios. A change of machine load between
+    rounds affects both frames of a round alike, so these vary less between bench runs than
+    the ratio of the medians. Empty when the runs were not interleaved."""
+    times, base = row.get("_times") or [], base_row.get("_times") or []
+    if not (row.get("_interleaved") and base_row.get("_interleaved") and times and
+            len(times) == len(base) and all(b > 0 for b in base)):
+        return {}
+    ratios = [t / b for t, b in zip(times, base)]
+    return {"ms_ratio_paired": statistics.median(ratios), "ms_ratio_paired_min": min(ratios),
+            "ms_ratio_paired_max": max(ratios)}
 
 
 def write_csv(rows, path):
@@ -300,16 +325,18 @@ def format_summary(rows, skipped=()):
     with_baseline = any("baseline" in row for row in rows)
     lines = ["%-10s %-9s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",
                                                    "RMSE", "max err", "ms/stock")
-             + ("  %-12s %8s %8s" % ("baseline", "ms/base", "rmse/base") if with_baseline
-                else "")]
+             + ("  %-12s %8s %8s %8s" % ("baseline", "ms/base", "rmse/base", "paired")
+                if with_baseline else "")]
     for row in rows:
         ratio = row.get("ms_ratio_to_stock")
         line = "%-10s %-9s %6g %10.2f %10.5f %10.4f %9s" % (
             row["dataset"], row["method"], row["step"], row["median_ms"], row["rmse"],
             row["max_error"], "%.2f" % ratio if ratio is not None else "-")
         if with_baseline and "baseline" in row:
-            line += "  %-12s %8.2f %8.2f" % (row["baseline"], row["ms_ratio_to_baseline"],
-                                           row["rmse_ratio_to_baseline"])
+            paired = row.get("ms_ratio_paired")
+            line += "  %-12s %8.2f %8.2f %8s" % (row["baseline"], row["ms_ratio_to_baseline"],
+                                               row["rmse_ratio_to_baseline"],
+                                               "%.2f" % paired if paired is not None else "-")
         lines.append(line)
     for name in skipped:
         lines.append("%-10s skipped (data not found)" % name)
