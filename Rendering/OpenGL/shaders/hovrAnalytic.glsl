@@ -261,10 +261,16 @@ bool hovr_atFace(ivec3 iNext, int size, bvec3 crossed)
   return dot(vec3(crossed), face) > 0.0;
 }
 
-// The crossing point at distance d: exact integers on the planes crossed.
-vec3 hovr_crossingPoint(float d, ivec3 iNext, int size, bvec3 crossed)
+// One step from before the planes iNext, in a piece of the ray that ends at distance tOut
+// at pOut: returns the crossing's distance; crossed: the axes crossed; leaving: whether the
+// piece (or the volume) ends there; px: where the step ends, exact on the planes crossed.
+float hovr_step(ivec3 iNext, int size, float tOut, vec3 pOut, out bvec3 crossed,
+  out bool leaving, out vec3 px)
 {
-  return mix(hovr_entry + d * hovr_dir, vec3(iNext * size), crossed);
+  float d = hovr_crossing(iNext, size, crossed);
+  leaving = d >= tOut || hovr_atFace(iNext, size, crossed);
+  px = leaving ? pOut : mix(hovr_entry + d * hovr_dir, vec3(iNext * size), crossed);
+  return d;
 }
 
 // The cell (or block) before the planes iNext.
@@ -358,9 +364,9 @@ bool hovr_walkCells(vec3 pIn, float tOut, vec3 pOut, int guard)
   for (int n = 0; n < guard; ++n)
   {
     bvec3 crossed;
-    float d = hovr_crossing(iNext, 1, crossed);
-    bool leaving = d >= tOut || hovr_atFace(iNext, 1, crossed);
-    vec3 px = leaving ? pOut : hovr_crossingPoint(d, iNext, 1, crossed);
+    bool leaving;
+    vec3 px;
+    hovr_step(iNext, 1, tOut, pOut, crossed, leaving, px);
     done = hovr_cell(hovr_boxBefore(iNext, hovr_dims - ivec3(1)), pe, px);
     if (done || leaving)
     {
@@ -405,9 +411,9 @@ bool hovr_walkBlocks(vec3 pIn, float tOut, vec3 pOut, ivec3 skipBlock)
   for (int n = 0; n < guard; ++n)
   {
     bvec3 crossed;
-    float d = hovr_crossing(iNext, HOVR_BLOCK, crossed);
-    bool leaving = d >= tOut || hovr_atFace(iNext, HOVR_BLOCK, crossed);
-    vec3 px = leaving ? pOut : hovr_crossingPoint(d, iNext, HOVR_BLOCK, crossed);
+    bool leaving;
+    vec3 px;
+    float d = hovr_step(iNext, HOVR_BLOCK, tOut, pOut, crossed, leaving, px);
     ivec3 block = hovr_boxBefore(iNext, blocks);
     done = block != skipBlock && hovr_mayHold(texelFetch(hovr_blockRange, block, 0).rg) &&
       hovr_walkCells(pe, min(d, tOut), px, 3 * HOVR_BLOCK + 3);
@@ -445,9 +451,9 @@ ivec3 hovr_blockBound(float span, vec3 exitPoint)
   for (int n = 0; n < guard; ++n)
   {
     bvec3 crossed;
-    float d = hovr_crossing(iNext, HOVR_BLOCK, crossed);
-    bool leaving = d >= span || hovr_atFace(iNext, HOVR_BLOCK, crossed);
-    vec3 px = leaving ? exitPoint : hovr_crossingPoint(d, iNext, HOVR_BLOCK, crossed);
+    bool leaving;
+    vec3 px;
+    float d = hovr_step(iNext, HOVR_BLOCK, span, exitPoint, crossed, leaving, px);
     ivec3 block = hovr_boxBefore(iNext, blocks);
     vec2 range = texelFetch(hovr_blockRange, block, 0).rg;
     if (range.x <= range.y)
