@@ -165,15 +165,19 @@ public:
       });
   }
 
-  // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z; false when one is not finite
-  // (NaN or infinite: the cell is transparent).
-  bool Corners(int i, int j, int k, float c[8]) const
+  // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z, and their range; false when one
+  // is not finite (NaN or infinite: the cell is transparent).
+  bool Corners(int i, int j, int k, float c[8], float& lo, float& hi) const
   {
     bool finite = true;
+    lo = std::numeric_limits<float>::infinity();
+    hi = -lo;
     for (int n = 0; n < 8; ++n)
     {
       c[n] = this->Bricks[this->Address(i + (n & 1), j + ((n >> 1) & 1), k + (n >> 2))];
       finite = finite && std::isfinite(c[n]);
+      lo = std::min(lo, c[n]);
+      hi = std::max(hi, c[n]);
     }
     return finite;
   }
@@ -228,11 +232,12 @@ public:
     {
       return false;
     }
-    const int last = this->Entries - 2;
-    const int b0 = static_cast<int>(
-      std::min(std::max(std::floor((lo - this->S0) * this->InvStep), 0.0), double(last)));
-    const int b1 = static_cast<int>(
-      std::min(std::max(std::floor((hi - this->S0) * this->InvStep), 0.0), double(last)));
+    // Clamped to [0, last] before the conversion, which then truncates like floor.
+    const double last = this->Entries - 2;
+    const int b0 =
+      static_cast<int>(std::min(std::max((lo - this->S0) * this->InvStep, 0.0), last));
+    const int b1 =
+      static_cast<int>(std::min(std::max((hi - this->S0) * this->InvStep, 0.0), last));
     return this->VisiblePrefix[b1 + 1] - this->VisiblePrefix[b0] > 0;
   }
 
@@ -252,13 +257,24 @@ public:
       std::abs(this->Inverse[0][2]) * h[2] + 1e-6;
     const double hv = std::abs(this->Inverse[1][0]) * h[0] + std::abs(this->Inverse[1][1]) * h[1] +
       std::abs(this->Inverse[1][2]) * h[2] + 1e-6;
-    // Clipped in double before the conversion, which would overflow under extreme zoom.
-    auto bound = [](double x, int lo, int hi)
-    { return static_cast<int>(std::min(std::max(x, lo - 1.0), hi + 1.0)); };
-    rect[0] = std::max(bound(std::ceil(u - hu), clip[0], clip[1]), clip[0]);
-    rect[1] = std::min(bound(std::floor(u + hu), clip[0], clip[1]), clip[1]);
-    rect[2] = std::max(bound(std::ceil(v - hv), clip[2], clip[3]), clip[2]);
-    rect[3] = std::min(bound(std::floor(v + hv), clip[2], clip[3]), clip[3]);
+    // Clipped in double to [lo - 1, hi + 1] before the conversion, which would overflow under
+    // extreme zoom; the bounds are integers, so rounding after clipping is the same.
+    auto ceilIn = [](double x, int lo, int hi)
+    {
+      x = std::min(std::max(x, lo - 1.0), hi + 1.0);
+      const int n = static_cast<int>(x); // truncates towards 0
+      return n + (n < x ? 1 : 0);
+    };
+    auto floorIn = [](double x, int lo, int hi)
+    {
+      x = std::min(std::max(x, lo - 1.0), hi + 1.0);
+      const int n = static_cast<int>(x);
+      return n - (n > x ? 1 : 0);
+    };
+    rect[0] = std::max(ceilIn(u - hu, clip[0], clip[1]), clip[0]);
+    rect[1] = std::min(floorIn(u + hu, clip[0], clip[1]), clip[1]);
+    rect[2] = std::max(ceilIn(v - hv, clip[2], clip[3]), clip[2]);
+    rect[3] = std::min(floorIn(v + hv, clip[2], clip[3]), clip[3]);
     return rect[0] <= rect[1] && rect[2] <= rect[3];
   }
 };
@@ -472,13 +488,12 @@ public:
     }
     if (level == 0)
     {
-      float corners[8];
-      if (!this->I.Corners(i, j, k, corners))
+      float corners[8], cornerLo, cornerHi;
+      if (!this->I.Corners(i, j, k, corners, cornerLo, cornerHi))
       {
         return; // NaN: the interpolant is NaN in the whole cell, which is transparent
       }
-      if (!this->I.Visible(
-            *std::min_element(corners, corners + 8), *std::max_element(corners, corners + 8)))
+      if (!this->I.Visible(cornerLo, cornerHi))
       {
         return;
       }
@@ -557,6 +572,7 @@ public:
       }
     }
     const double step = I.Step;
+    const double perStep = 1.0 / step; // a product per pixel instead of a division
     for (int py = rect[2]; py <= rect[3]; ++py)
     {
       for (int px = rect[0]; px <= rect[1]; ++px)
@@ -593,9 +609,9 @@ public:
         const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
         const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
         const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
-        // The first sample position at or after tin, whatever the division rounds to (a
+        // The first sample position at or after tin, whatever the product rounds to (a
         // sample exactly on a face belongs to the cell behind it, and to no other).
-        double n = std::ceil((tin - phase) / step);
+        double n = std::ceil((tin - phase) * perStep);
         if (phase + n * step < tin)
         {
           n += 1.0;
