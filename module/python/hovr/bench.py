@@ -41,8 +41,8 @@ GPU runs of a dataset are timed in interleaved rounds (one frame of each method 
 round), so that load changes on a shared machine hit them alike and the time ratios to the
 stock mapper stay meaningful; against the baseline, ``ms_ratio_paired`` (with its smallest and
 largest value) is the median of the per-round ratios, steadier than the ratio of the medians
-(``ms_ratio_to_baseline``) when the load changes within a run. Every image is compared with the reference integrator's
-(cached under ``cache/``). Written
+(``ms_ratio_to_baseline``) when the load changes within a run. Every image is compared with
+the reference integrator's (cached under ``cache/``). Written
 to the output folder: ``results.csv`` (one row per dataset, method and step), ``images/``
 (renderings and 10x difference images), ``tradeoff.png`` (error against time per frame) and
 ``summary.txt``.
