@@ -234,10 +234,8 @@ public:
     }
     // Clamped to [0, last] before the conversion, which then truncates like floor.
     const double last = this->Entries - 2;
-    const int b0 =
-      static_cast<int>(std::min(std::max((lo - this->S0) * this->InvStep, 0.0), last));
-    const int b1 =
-      static_cast<int>(std::min(std::max((hi - this->S0) * this->InvStep, 0.0), last));
+    const int b0 = static_cast<int>(std::min(std::max((lo - this->S0) * this->InvStep, 0.0), last));
+    const int b1 = static_cast<int>(std::min(std::max((hi - this->S0) * this->InvStep, 0.0), last));
     return this->VisiblePrefix[b1 + 1] - this->VisiblePrefix[b0] > 0;
   }
 
@@ -417,7 +415,23 @@ public:
     float& alpha)
   {
     const double full = a0[3] + f * (a0[7] - a0[3]);
-    alpha = static_cast<float>(-std::expm1(std::log1p(-full) * length / step));
+    // alpha = 1 - (1 - full)^(length / step); the two lengths most pieces have (a whole step
+    // and half of one) without the logarithm and exponential (to 1e-12 of the exponent).
+    const double ratio = length / step;
+    double a;
+    if (std::abs(ratio - 1.0) <= 1e-12)
+    {
+      a = full;
+    }
+    else if (std::abs(ratio - 0.5) <= 1e-12)
+    {
+      a = full / (1.0 + std::sqrt(1.0 - full)); // 1 - sqrt(1 - full), without cancellation
+    }
+    else
+    {
+      a = -std::expm1(std::log1p(-full) * ratio);
+    }
+    alpha = static_cast<float>(a);
     for (int ch = 0; ch < 3; ++ch)
     {
       rgb[ch] = alpha * (a0[ch] + f * (a0[ch + 4] - a0[ch]));
@@ -573,6 +587,8 @@ public:
     }
     const double step = I.Step;
     const double perStep = 1.0 / step; // a product per pixel instead of a division
+    vtkIdType samples = 0;             // added to this->Samples at the end (not per sample:
+                                       // the member may alias the image for the compiler)
     for (int py = rect[2]; py <= rect[3]; ++py)
     {
       for (int px = rect[0]; px <= rect[1]; ++px)
@@ -644,7 +660,7 @@ public:
           const int e0 = std::min(static_cast<int>(e), I.Entries - 2);
           const float f = e - static_cast<float>(e0);
           const float* a0 = I.Table.data() + 4 * e0;
-          ++this->Samples;
+          ++samples;
           float shade = 1.0f, highlight = 0.0f;
           if (I.Shading == 1)
           {
@@ -756,6 +772,7 @@ public:
         }
       }
     }
+    this->Samples += samples;
   }
 };
 }
