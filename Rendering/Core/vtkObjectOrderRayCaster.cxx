@@ -37,6 +37,8 @@ namespace
 {
 constexpr int BrickBits = 5; // bricks of 32^3 points
 constexpr int BrickSide = 1 << BrickBits;
+constexpr int MaxLeafLevel = 3;    // leaves of at most 8^3 cells
+constexpr double LeafPixels = 8.0; // automatic leaves project to at least this many pixels
 
 // Spread the 5 low bits of v to every third bit, from bit offset (section 4.3.4's interleaving
 // of the coordinates inside a brick: z4 y4 x4 ... z0 y0 x0).
@@ -64,7 +66,10 @@ public:
   int Cells[3] = { 0, 0, 0 };
   int BrickCount[3] = { 0, 0, 0 };
   std::vector<float> Bricks;
-  uint32_t SpreadTable[3][BrickSide];
+  // A point's address in Bricks is a sum of one term per axis (the brick index sits above
+  // the 15 interleaved bits, so the brick's and the bits' parts add): Address(x, y, z) =
+  // AxisAddress[0][x] + AxisAddress[1][y] + AxisAddress[2][z].
+  std::vector<size_t> AxisAddress[3];
 
   // The frame: pixel (i, j)'s ray is O + i EX + j EY + t D in grid index, t the world
   // distance from the camera plane; (u, v) = Inverse rows 0-1 applied to (p - O) project a
@@ -83,11 +88,14 @@ public:
   double S0 = 0.0, InvStep = 1.0;
   std::vector<int> VisiblePrefix;      // visible bins before bin b
   std::array<double, 5> TableKey = {}; // what the two tables above were built for
-  // Per cell, at the brick address of its first corner: the last frame that rendered it
-  // (counts each cell once, whatever the tiles).
-  std::unique_ptr<std::atomic<uint32_t>[]> CellFrames;
-  size_t CellFrameCount = 0;
-  uint32_t FrameNumber = 0;
+  // The octree level whose nodes are ray cast as a whole (leaves of 2^LeafLevel cells per
+  // edge), and one bit per cell of every leaf, leaf after leaf (8^LeafLevel bits each): set
+  // when a ray took a sample in the cell this frame, so that each cell counts once whatever
+  // the tiles and rays; counted and cleared at the end of the frame.
+  int LeafLevel = 0;
+  int LeafCount[3] = { 0, 0, 0 };
+  std::unique_ptr<std::atomic<uint64_t>[]> SampledBits;
+  size_t SampledWords = 0;
   // Pre-integrated classification: the first-order table over (front, back) scalar for one
   // step (RGBA premultiplied, front fastest), entries at S0 + e / SegmentInvStep.
   bool Preintegrated = false;
@@ -112,25 +120,9 @@ public:
   std::vector<float> Reflectance;
   bool FrameReady = false;
 
-  Frame()
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      for (int v = 0; v < BrickSide; ++v)
-      {
-        this->SpreadTable[a][v] = Spread(v, a);
-      }
-    }
-  }
-
   size_t Address(int x, int y, int z) const
   {
-    const size_t brick = (x >> BrickBits) +
-      static_cast<size_t>(this->BrickCount[0]) *
-        ((y >> BrickBits) + static_cast<size_t>(this->BrickCount[1]) * (z >> BrickBits));
-    return (brick << (3 * BrickBits)) |
-      (this->SpreadTable[0][x & (BrickSide - 1)] | this->SpreadTable[1][y & (BrickSide - 1)] |
-        this->SpreadTable[2][z & (BrickSide - 1)]);
+    return this->AxisAddress[0][x] + this->AxisAddress[1][y] + this->AxisAddress[2][z];
   }
 
   void BuildBricks(vtkDataArray* scalars, const int dims[3])
@@ -140,6 +132,19 @@ public:
     {
       this->Cells[a] = dims[a] - 1;
       this->BrickCount[a] = (dims[a] + BrickSide - 1) / BrickSide;
+    }
+    // Bricks x fastest; the 5 low bits of each coordinate interleaved inside a brick.
+    const size_t brickStride[3] = { 1,
+      static_cast<size_t>(this->BrickCount[0]),
+      static_cast<size_t>(this->BrickCount[0]) * this->BrickCount[1] };
+    for (int a = 0; a < 3; ++a)
+    {
+      this->AxisAddress[a].resize(dims[a]);
+      for (int v = 0; v < dims[a]; ++v)
+      {
+        this->AxisAddress[a][v] =
+          (brickStride[a] * (v >> BrickBits) << (3 * BrickBits)) + Spread(v & (BrickSide - 1), a);
+      }
     }
     this->Bricks.assign(
       static_cast<size_t>(this->BrickCount[0]) * this->BrickCount[1] * this->BrickCount[2]
@@ -223,6 +228,23 @@ public:
   {
     shade = nl < 0.0 ? this->Ambient : this->Ambient + this->Diffuse * static_cast<float>(nl);
     highlight = nl > 0.0 ? this->Specular * static_cast<float>(std::pow(nl, this->Power)) : 0.0f;
+  }
+
+  // The leaf level for this view: the smallest whose leaves project to at least
+  // LeafPixels pixels across (a cell's projected extent from the rows of Inverse), so that
+  // the rays through a leaf pay for its traversal and screen tests.
+  int AutomaticLeafLevel() const
+  {
+    const double cellPixels = std::max(
+      std::abs(this->Inverse[0][0]) + std::abs(this->Inverse[0][1]) + std::abs(this->Inverse[0][2]),
+      std::abs(this->Inverse[1][0]) + std::abs(this->Inverse[1][1]) +
+        std::abs(this->Inverse[1][2]));
+    int level = 0;
+    while (level < MaxLeafLevel && (cellPixels * (1 << level)) < LeafPixels)
+    {
+      ++level;
+    }
+    return level;
   }
 
   // Whether the opacity can be non-zero somewhere in [lo, hi] (conservative: whole bins).
@@ -329,16 +351,112 @@ void BinDirection(int bin, double n[3])
   vtkMath::Normalize(n);
 }
 
+// The points of a leaf (at most 9^3), copied from the bricks when a ray first enters one of
+// its cells, so that a cell's 8 corners are loads at fixed offsets.
+struct LeafPoints
+{
+  int Size[3]; // points per axis: the leaf's cells + 1
+  bool Loaded = false;
+  float Values[((1 << MaxLeafLevel) + 1) * ((1 << MaxLeafLevel) + 1) * ((1 << MaxLeafLevel) + 1)];
+  // Per cell (leaf-local index): 0 not known yet, 1 transparent, 2 visible.
+  uint8_t State[1 << (3 * MaxLeafLevel)];
+
+  LeafPoints(const int cells[3])
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Size[a] = cells[a] + 1;
+    }
+    std::fill(this->State, this->State + cells[0] * cells[1] * cells[2], uint8_t(0));
+  }
+
+  // Whether the leaf's cell c (leaf-local, index key; the leaf starts at point lo) is
+  // visible; then its corners in v. Each cell's corner range is tested once per leaf.
+  bool Cell(const Frame& I, const int lo[3], const int c[3], int key, float v[8])
+  {
+    switch (this->State[key])
+    {
+      case 1:
+        return false;
+      case 2:
+        this->Load(c, v);
+        return true;
+      default:
+      {
+        float low, high;
+        const bool visible = this->Corners(I, lo, c, v, low, high) && I.Visible(low, high);
+        this->State[key] = visible ? 2 : 1;
+        return visible;
+      }
+    }
+  }
+
+  // The corners of the leaf's cell c, indexed x + 2 y + 4 z (the points loaded).
+  void Load(const int c[3], float v[8]) const
+  {
+    const int sx = this->Size[0], sxy = this->Size[0] * this->Size[1];
+    const float* b = this->Values + c[0] + sx * c[1] + sxy * c[2];
+    v[0] = b[0];
+    v[1] = b[1];
+    v[2] = b[sx];
+    v[3] = b[sx + 1];
+    v[4] = b[sxy];
+    v[5] = b[sxy + 1];
+    v[6] = b[sxy + sx];
+    v[7] = b[sxy + sx + 1];
+  }
+
+  // The corners of the leaf's cell c (leaf-local; the leaf starts at point lo), indexed
+  // x + 2 y + 4 z, and their range; false when one is not finite (see Frame::Corners).
+  bool Corners(const Frame& I, const int lo[3], const int c[3], float v[8], float& low, float& high)
+  {
+    const int sx = this->Size[0], sxy = this->Size[0] * this->Size[1];
+    if (!this->Loaded)
+    {
+      const size_t* ax = I.AxisAddress[0].data() + lo[0];
+      const size_t* ay = I.AxisAddress[1].data() + lo[1];
+      const size_t* az = I.AxisAddress[2].data() + lo[2];
+      float* out = this->Values;
+      for (int z = 0; z < this->Size[2]; ++z)
+      {
+        for (int y = 0; y < this->Size[1]; ++y)
+        {
+          const float* plane = I.Bricks.data() + az[z] + ay[y];
+          for (int x = 0; x < sx; ++x)
+          {
+            *out++ = plane[ax[x]];
+          }
+        }
+      }
+      this->Loaded = true;
+    }
+    this->Load(c, v);
+    bool finite = true;
+    low = std::numeric_limits<float>::infinity();
+    high = -low;
+    for (int n = 0; n < 8; ++n)
+    {
+      finite = finite && std::isfinite(v[n]);
+      low = std::min(low, v[n]);
+      high = std::max(high, v[n]);
+    }
+    return finite;
+  }
+};
+
 // One tile's walk of the octree: front to back, skipping transparent, off-tile and hidden
-// nodes, sampling every pixel ray through each remaining cell.
+// nodes, ray casting every pixel ray through each remaining leaf.
 class TileWalker
 {
 public:
   const Frame& I;
   const vtkMinMaxOctree* Octree;
   float* Image; // W x H RGBA
-  std::atomic<uint32_t>* CellFrames;
-  uint32_t FrameStamp = 0;
+  void (TileWalker::*LeafFunction)(int, const int*, const int*) = nullptr;
+  // The rays' direction (grid index per unit of t, the same for every ray of a parallel
+  // view) in float, its sign and inverse per axis, and the span of t between planes.
+  float Direction[3], InvDirection[3], Span[3];
+  int StepTo[3];
   vtkHierarchicalOcclusionMap Occlusion;
   int Clip[4];  // tile pixels [x0, x1] x [y0, y1]
   int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
@@ -348,62 +466,63 @@ public:
   float SegmentScale, SegmentLast; // the pre-integration table's mapping
   float* PreviousScalar = nullptr; // per pixel: the last sample's scalar (pre-integration)
   double* PreviousT = nullptr;     // and its t (NaN: none yet)
-  float* PendingEntry = nullptr;   // its classification-table coordinate while it still owes
+  float* PendingScalar = nullptr;  // its scalar while it still owes
                                    // its trailing half step (NaN: nothing owed)
   float* PendingShade = nullptr;   // and its shading (factor, highlight), 2 per pixel
-
-  // The trailing half step a pre-integrated sample owes (point-sampled), and its shading.
-  void PendingPiece(size_t p, float rgb[3], float& alpha, float shading[2]) const
-  {
-    const float e = this->PendingEntry[p];
-    const int e0 = std::min(static_cast<int>(e), this->I.Entries - 2);
-    PointPiece(this->I.Table.data() + 4 * e0, e - e0, 0.5 * this->I.Step, this->I.Step, rgb, alpha);
-    shading[0] = this->PendingShade[2 * p];
-    shading[1] = this->PendingShade[2 * p + 1];
-  }
 
   // After the walk of a tile: the trailing half steps still owed (rays whose last visible
   // sample was followed by transparent cells only).
   void FlushPending()
   {
-    for (int py = this->Clip[2]; this->PendingEntry && py <= this->Clip[3]; ++py)
+    for (int py = this->Clip[2]; this->PendingScalar && py <= this->Clip[3]; ++py)
     {
       for (int px = this->Clip[0]; px <= this->Clip[1]; ++px)
       {
         const size_t p = static_cast<size_t>(px) + static_cast<size_t>(this->I.Width) * py;
         const int lx = px - this->Clip[0], ly = py - this->Clip[2];
-        if (!(this->PendingEntry[p] == this->PendingEntry[p]) ||
+        if (!(this->PendingScalar[p] == this->PendingScalar[p]) ||
           this->Occlusion.IsPixelOpaque(lx, ly))
         {
           continue;
         }
-        float rgb[3], alpha, shading[2];
-        this->PendingPiece(p, rgb, alpha, shading);
-        for (int ch = 0; ch < 3; ++ch)
+        float rgb[3], alpha;
+        this->ScalarPiece(this->PendingScalar[p], 0.5 * this->I.Step, rgb, alpha);
+        if (Composite<1>(this->Image + 4 * p,
+              rgb,
+              alpha,
+              this->PendingShade[2 * p],
+              this->PendingShade[2 * p + 1],
+              this->I.Threshold))
         {
-          rgb[ch] = std::min(rgb[ch] * shading[0] + shading[1] * alpha, alpha);
+          this->Occlusion.SetPixelOpaque(lx, ly);
         }
-        this->Over(this->Image + 4 * p, rgb, alpha, lx, ly);
       }
     }
   }
 
-  // Front-to-back "over" of a piece of ray with premultiplied colour rgb and opacity alpha;
-  // true when the pixel becomes opaque.
-  bool Over(float* pixel, const float rgb[3], float alpha, int lx, int ly)
+  // Front-to-back "over" of a piece of ray with premultiplied colour rgb and opacity alpha,
+  // lit by (shade, highlight) (see Frame::Lighting), into the premultiplied RGBA acc; true
+  // when acc becomes opaque (its alpha reaches threshold).
+  template <int Shading>
+  static bool Composite(float acc[4],
+    const float rgb[3],
+    float alpha,
+    float shade,
+    float highlight,
+    float threshold)
   {
-    const float transmittance = 1.0f - pixel[3];
+    if (!(alpha > 0.0f))
+    {
+      return false;
+    }
+    const float transmittance = 1.0f - acc[3];
     for (int ch = 0; ch < 3; ++ch)
     {
-      pixel[ch] += transmittance * rgb[ch];
+      acc[ch] +=
+        transmittance * std::min(Shading ? rgb[ch] * shade + highlight * alpha : rgb[ch], alpha);
     }
-    pixel[3] += transmittance * alpha;
-    if (pixel[3] >= this->I.Threshold)
-    {
-      this->Occlusion.SetPixelOpaque(lx, ly);
-      return true;
-    }
-    return false;
+    acc[3] += transmittance * alpha;
+    return acc[3] >= threshold;
   }
 
   // A piece of length `length` point-sampled at the table entry a0 + f (alpha of one step).
@@ -452,6 +571,21 @@ public:
     for (int a = 0; a < 3; ++a)
     {
       this->First[a] = internals.D[a] >= 0.0 ? 0 : 1;
+      for (int a = 0; a < 3; ++a)
+      {
+        this->Direction[a] = static_cast<float>(internals.D[a]);
+        this->StepTo[a] = this->Direction[a] > 0.0f ? 1 : (this->Direction[a] < 0.0f ? -1 : 0);
+        this->InvDirection[a] = this->StepTo[a] ? 1.0f / this->Direction[a] : 0.0f;
+        this->Span[a] = this->StepTo[a] ? std::abs(this->InvDirection[a])
+                                        : std::numeric_limits<float>::infinity();
+      }
+      // The leaf's rendering specialized for the classification and the shading.
+      using Function = decltype(&TileWalker::Leaf<true, 0>);
+      const Function functions[2][3] = {
+        { &TileWalker::Leaf<false, 0>, &TileWalker::Leaf<false, 1>, &TileWalker::Leaf<false, 2> },
+        { &TileWalker::Leaf<true, 0>, &TileWalker::Leaf<true, 1>, &TileWalker::Leaf<true, 2> }
+      };
+      this->LeafFunction = functions[internals.Preintegrated ? 1 : 0][internals.Shading];
     }
   }
 
@@ -500,22 +634,18 @@ public:
     {
       return;
     }
+    if (this->Render && level <= this->I.LeafLevel)
+    {
+      (this->*(this->LeafFunction))(level, index, rect);
+      return;
+    }
     if (level == 0)
     {
+      // Counting only (ComputeNonTransparentCells): a cell with a NaN corner is transparent
+      // (the interpolant is NaN in the whole cell).
       float corners[8], cornerLo, cornerHi;
-      if (!this->I.Corners(i, j, k, corners, cornerLo, cornerHi))
-      {
-        return; // NaN: the interpolant is NaN in the whole cell, which is transparent
-      }
-      if (!this->I.Visible(cornerLo, cornerHi))
-      {
-        return;
-      }
-      if (this->Render)
-      {
-        this->Cell(index, corners, rect);
-      }
-      else
+      if (this->I.Corners(i, j, k, corners, cornerLo, cornerHi) &&
+        this->I.Visible(cornerLo, cornerHi))
       {
         ++this->Cells;
       }
@@ -549,23 +679,332 @@ public:
     }
   }
 
-  // Section 3: every pixel ray through the cell, sampled at its global sample positions
-  // inside the cell's segment [tin, tout).
-  void Cell(const int c[3], const float corners[8], const int rect[4])
+  // Section 3 at the scale of a leaf of the octree (2^LeafLevel cells per edge, fewer at the
+  // far faces), while its voxels are in cache: every pixel ray through the leaf is sampled at
+  // its global sample positions inside the leaf's segment [tin, tout). A sample takes the 8
+  // corners of the cell it falls in, loaded when the ray enters the cell; a cell whose corner
+  // range is transparent (or that has a NaN corner) takes no sample, as in a walk cell by
+  // cell. Leaves of one cell are the paper's per-cell rendering.
+  template <bool Preintegrated, int Shading>
+  void Leaf(int level, const int index[3], const int rect[4])
   {
     const auto& I = this->I;
-    // Stamps at the brick address of the cell's first corner: neighbouring cells, which the
-    // octree walk renders one after another, share cache lines.
-    const size_t cell = I.Address(c[0], c[1], c[2]);
-    if (this->CellFrames[cell].exchange(this->FrameStamp, std::memory_order_relaxed) !=
-      this->FrameStamp)
+    int lo[3], size[3];
+    for (int a = 0; a < 3; ++a)
     {
-      ++this->Cells; // first tile to render this cell in this frame
+      lo[a] = index[a] << level;
+      size[a] = std::min((index[a] + 1) << level, I.Cells[a]) - lo[a];
     }
-    // Shading data of the 8 corners: gradients (post-shading, interpolated per sample) or the
-    // reflectance of their quantized normals (pre-shading, section 4.3.2: the vertices are
-    // shaded, the shading interpolated).
-    float gradients[3][8], lit[2][8];
+    // The cells of the leaf that a ray sampled, leaf-local bits (x fastest).
+    uint64_t sampled[(1 << (3 * MaxLeafLevel)) / 64 + 1] = {};
+    // The leaf's points, copied from the bricks when a ray first enters one of its cells.
+    LeafPoints leaf(size);
+    // The change of the leaf-local cell index for a step of the ray across each axis.
+    const int keyStep[3] = {
+      this->StepTo[0], this->StepTo[1] * size[0], this->StepTo[2] * size[0] * size[1]
+    };
+    const double step = I.Step;
+    const double perStep = 1.0 / step; // a product per pixel instead of a division
+    vtkIdType samples = 0;             // added to this->Samples at the end (not per sample:
+                                       // the member may alias the image for the compiler)
+    for (int py = rect[2]; py <= rect[3]; ++py)
+    {
+      const double row[3] = { I.O[0] + py * I.EY[0], I.O[1] + py * I.EY[1], I.O[2] + py * I.EY[2] };
+      for (int px = rect[0]; px <= rect[1]; ++px)
+      {
+        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
+        if (this->Occlusion.IsPixelOpaque(lx, ly))
+        {
+          continue;
+        }
+        double o[3];
+        double tin = 0.0, tout = std::numeric_limits<double>::infinity();
+        bool inside = true;
+        for (int a = 0; a < 3; ++a)
+        {
+          o[a] = row[a] + px * I.EX[a];
+          const int far = lo[a] + size[a];
+          if (I.Still[a])
+          {
+            // A ray in a cell plane belongs to the cell above it (the last cell keeps its
+            // far face), so no sample is taken twice.
+            inside = inside && o[a] >= lo[a] && (o[a] < far || (far == I.Cells[a] && o[a] <= far));
+            continue;
+          }
+          // The same expression for a plane in both leaves that share it: equal t.
+          const double t1 = (lo[a] - o[a]) * I.InvD[a];
+          const double t2 = (far - o[a]) * I.InvD[a];
+          tin = std::max(tin, std::min(t1, t2));
+          tout = std::min(tout, std::max(t1, t2));
+        }
+        if (!inside || !(tin < tout))
+        {
+          continue;
+        }
+        const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
+        // The first sample position at or after tin, whatever the product rounds to (a
+        // sample exactly on a face belongs to the leaf behind it, and to no other).
+        double n = std::ceil((tin - phase) * perStep);
+        if (phase + n * step < tin)
+        {
+          n += 1.0;
+        }
+        while (phase + (n - 1.0) * step >= tin)
+        {
+          n -= 1.0;
+        }
+        if (!(phase + n * step < tout))
+        {
+          continue;
+        }
+        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
+        // Leaf-local coordinates in float, where they are small: the ray at tin.
+        float entry[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          entry[a] = static_cast<float>(o[a] + tin * I.D[a] - lo[a]);
+        }
+        if (this->Segment<Preintegrated, Shading>(
+              p, phase, n, tin, tout, entry, size, lo, keyStep, leaf, sampled, samples))
+        {
+          this->Occlusion.SetPixelOpaque(lx, ly);
+        }
+      }
+    }
+    this->Samples += samples;
+    this->FlushSampled(level, index, size, sampled);
+  }
+
+  // The classification-table coordinate of a scalar (entries linear in between).
+  float Entry(float s) const
+  {
+    return std::min(std::max((s - this->S0) * this->InvStep, 0.0f), this->LastEntry);
+  }
+
+  // A piece of ray of length `length`, point-sampled at scalar s.
+  void ScalarPiece(float s, double length, float rgb[3], float& alpha) const
+  {
+    const float e = this->Entry(s);
+    const int e0 = std::min(static_cast<int>(e), this->I.Entries - 2);
+    PointPiece(this->I.Table.data() + 4 * e0, e - e0, length, this->I.Step, rgb, alpha);
+  }
+
+  // The part [tin, tout) of pixel p's ray in the leaf at lo (size cells), from its sample
+  // phase + n step on; entry and direction: the ray at tin and its direction, leaf-local.
+  // The ray walks the leaf's cells (a DDA in the leaf's small float coordinates, which
+  // accumulates no more than a leaf's rounding) and takes the samples of each visible cell;
+  // the ray's state is held in locals meanwhile. Specialized for the classification and the
+  // shading, so the loop holds only the code the scene needs. True when the pixel became
+  // opaque.
+  template <bool Preintegrated, int Shading>
+  bool Segment(size_t p,
+    double phase,
+    double n,
+    double tin,
+    double tout,
+    const float entry[3],
+    const int size[3],
+    const int lo[3],
+    const int keyStep[3],
+    LeafPoints& leaf,
+    uint64_t* sampled,
+    vtkIdType& samples)
+  {
+    const float* direction = this->Direction;
+    const auto& I = this->I;
+    const double step = I.Step;
+    const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
+    const float threshold = I.Threshold;
+    float* pixel = this->Image + 4 * p;
+    float acc[4] = { pixel[0], pixel[1], pixel[2], pixel[3] };
+    // Pre-integration: the previous sample (scalar, t: NaN when none) and the trailing half
+    // step it may still owe (its scalar, NaN when nothing is owed, and its shading).
+    float previousScalar = 0.0f, pendingScalar = 0.0f, pendingShade[2] = { 0.0f, 0.0f };
+    double previousT = 0.0;
+    if (Preintegrated)
+    {
+      previousScalar = this->PreviousScalar[p];
+      previousT = this->PreviousT[p];
+      pendingScalar = this->PendingScalar[p];
+      pendingShade[0] = this->PendingShade[2 * p];
+      pendingShade[1] = this->PendingShade[2 * p + 1];
+    }
+    // The cell of the entry (and its index in the leaf) and the distances (from tin) to the
+    // next plane on each axis.
+    int c[3];
+    float next[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] = std::min(static_cast<int>(std::max(entry[a], 0.0f)), size[a] - 1);
+      next[a] = this->StepTo[a]
+        ? (static_cast<float>(c[a] + (this->StepTo[a] > 0 ? 1 : 0)) - entry[a]) *
+          this->InvDirection[a]
+        : std::numeric_limits<float>::infinity();
+    }
+    int key = c[0] + size[0] * (c[1] + size[1] * c[2]);
+    double t = phase + n * step;
+    float corners[8], gradients[3][8], lit[2][8];
+    bool opaque = false;
+    while (t < tout && !opaque)
+    {
+      // The cell's part of the ray: up to the nearest plane (the leaf's end: tout).
+      const int axis =
+        next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
+      const float exit = next[axis];
+      if (leaf.Cell(I, lo, c, key, corners))
+      {
+        const double first = n;
+        if (Shading)
+        {
+          const int cell[3] = { lo[0] + c[0], lo[1] + c[1], lo[2] + c[2] };
+          this->CellShading(cell, gradients, lit);
+        }
+        for (float dt = static_cast<float>(t - tin); dt < exit && t < tout && !opaque;
+             n += 1.0, t = phase + n * step, dt = static_cast<float>(t - tin))
+        {
+          float u[3];
+          for (int a = 0; a < 3; ++a)
+          {
+            u[a] = std::min(
+              std::max(entry[a] + dt * direction[a] - static_cast<float>(c[a]), 0.0f), 1.0f);
+          }
+          const float s = Trilinear(corners, u);
+          ++samples;
+          float shade = 1.0f, highlight = 0.0f;
+          if (Shading == 1)
+          {
+            float g[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              g[a] = Trilinear(gradients[a], u);
+            }
+            I.Lighting(I.LightCosine(g), shade, highlight);
+          }
+          else if (Shading == 2)
+          {
+            shade = Trilinear(lit[0], u);
+            highlight = Trilinear(lit[1], u);
+          }
+          float rgb[3], alpha;
+          const bool last = t + step >= tx;
+          if (Preintegrated)
+          {
+            // Pre-integrated segments between consecutive samples (Engel et al.'s table, the
+            // project's vtkFirstOrderPreIntegrationTable); point-sampled pieces from the
+            // chord's entry (or after a gap of transparent cells) to the first sample and
+            // from the last one to the exit.
+            const bool joined = previousT == previousT && t - previousT < 1.5 * step;
+            if (!joined && pendingScalar == pendingScalar)
+            {
+              // After a gap of transparent cells: the previous sample's trailing half step.
+              this->ScalarPiece(pendingScalar, 0.5 * step, rgb, alpha);
+              opaque =
+                Composite<Shading>(acc, rgb, alpha, pendingShade[0], pendingShade[1], threshold);
+            }
+            if (!opaque)
+            {
+              if (joined)
+              {
+                this->SegmentPiece(previousScalar, s, rgb, alpha);
+              }
+              else
+              {
+                this->ScalarPiece(s, t - (t - step < te ? te : t - 0.5 * step), rgb, alpha);
+              }
+              opaque = Composite<Shading>(acc, rgb, alpha, shade, highlight, threshold);
+            }
+            if (!opaque && last)
+            {
+              this->ScalarPiece(s, tx - t, rgb, alpha);
+              opaque = Composite<Shading>(acc, rgb, alpha, shade, highlight, threshold);
+            }
+            previousScalar = s;
+            previousT = t;
+            // Until the next sample joins it by a segment, this one owes its trailing half
+            // step (composited after a gap, or at the end of the walk).
+            pendingScalar = last ? std::numeric_limits<float>::quiet_NaN() : s;
+            pendingShade[0] = shade;
+            pendingShade[1] = highlight;
+          }
+          else
+          {
+            // Each sample stands for the part of the ray closer to it than to its
+            // neighbours, the first one from the box entry on and the last one up to the exit
+            // (midpoint rule with the ends included), so no part of the chord is left out or
+            // counted twice whatever the phase.
+            const double from = t - step < te ? te : t - 0.5 * step;
+            const double to = last ? tx : t + 0.5 * step;
+            this->ScalarPiece(s, to - from, rgb, alpha);
+            opaque = Composite<Shading>(acc, rgb, alpha, shade, highlight, threshold);
+          }
+        }
+        if (n > first)
+        {
+          sampled[key >> 6] |= uint64_t(1) << (key & 63); // the cell's data made a sample
+        }
+      }
+      else
+      {
+        // A transparent cell takes no sample: on to the first sample at or after its exit
+        // (the rule of the loop above, so that every sample belongs to one cell).
+        while (static_cast<float>(t - tin) < exit)
+        {
+          n += 1.0;
+          t = phase + n * step;
+        }
+      }
+      // Into the next cell (stays in the leaf: rounding at its far faces keeps the last cell).
+      const int moved = c[axis] + this->StepTo[axis];
+      if (moved >= 0 && moved < size[axis])
+      {
+        c[axis] = moved;
+        key += keyStep[axis];
+      }
+      next[axis] += this->Span[axis];
+    }
+    std::copy(acc, acc + 4, pixel);
+    if (Preintegrated)
+    {
+      this->PreviousScalar[p] = previousScalar;
+      this->PreviousT[p] = previousT;
+      this->PendingScalar[p] = pendingScalar;
+      this->PendingShade[2 * p] = pendingShade[0];
+      this->PendingShade[2 * p + 1] = pendingShade[1];
+    }
+    return opaque;
+  }
+
+  // The pre-integrated segment between consecutive samples of scalars front and back (the
+  // first-order table, bilinear).
+  void SegmentPiece(float frontScalar, float backScalar, float rgb[3], float& alpha) const
+  {
+    const auto& I = this->I;
+    float front = (frontScalar - this->S0) * this->SegmentScale;
+    float back = (backScalar - this->S0) * this->SegmentScale;
+    front = std::min(std::max(front, 0.0f), this->SegmentLast);
+    back = std::min(std::max(back, 0.0f), this->SegmentLast);
+    const int i0 = std::min(static_cast<int>(front), I.SegmentEntries - 2);
+    const int j0 = std::min(static_cast<int>(back), I.SegmentEntries - 2);
+    const float fi = front - i0, fj = back - j0;
+    const float* e00 = I.Segments + 4 * (i0 + static_cast<size_t>(I.SegmentEntries) * j0);
+    const float* e01 = e00 + 4 * I.SegmentEntries;
+    float entry[4];
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      const float lower = e00[ch] + fi * (e00[ch + 4] - e00[ch]);
+      const float upper = e01[ch] + fi * (e01[ch + 4] - e01[ch]);
+      entry[ch] = lower + fj * (upper - lower);
+    }
+    alpha = entry[3];
+    std::copy(entry, entry + 3, rgb);
+  }
+
+  // Shading data of the 8 corners of a cell: gradients (post-shading, interpolated per sample)
+  // or the reflectance of their quantized normals (pre-shading, section 4.3.2: the vertices
+  // are shaded, the shading interpolated).
+  void CellShading(const int c[3], float gradients[3][8], float lit[2][8]) const
+  {
+    const auto& I = this->I;
     for (int v = 0; I.Shading && v < 8; ++v)
     {
       const int x = c[0] + (v & 1), y = c[1] + ((v >> 1) & 1), z = c[2] + (v >> 2);
@@ -585,194 +1024,33 @@ public:
         lit[1][v] = r[1];
       }
     }
-    const double step = I.Step;
-    const double perStep = 1.0 / step; // a product per pixel instead of a division
-    vtkIdType samples = 0;             // added to this->Samples at the end (not per sample:
-                                       // the member may alias the image for the compiler)
-    for (int py = rect[2]; py <= rect[3]; ++py)
+  }
+
+  // The cells of a leaf that rays sampled, into the frame's bits (leaf-major, x fastest in a
+  // leaf of full size, so the bits of the leaf's cells are contiguous).
+  void FlushSampled(int level, const int index[3], const int size[3], const uint64_t* sampled)
+  {
+    const size_t leafCells = size_t(1) << (3 * level);
+    const size_t leaf =
+      index[0] + this->I.LeafCount[0] * (index[1] + size_t(this->I.LeafCount[1]) * index[2]);
+    const size_t first = leaf * leafCells;
+    const int full = 1 << level;
+    for (int z = 0; z < size[2]; ++z)
     {
-      for (int px = rect[0]; px <= rect[1]; ++px)
+      for (int y = 0; y < size[1]; ++y)
       {
-        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
-        if (this->Occlusion.IsPixelOpaque(lx, ly))
+        for (int x = 0; x < size[0]; ++x)
         {
-          continue;
-        }
-        double o[3];
-        double tin = 0.0, tout = std::numeric_limits<double>::infinity();
-        bool inside = true;
-        for (int a = 0; a < 3; ++a)
-        {
-          o[a] = I.O[a] + px * I.EX[a] + py * I.EY[a];
-          if (I.Still[a])
+          const int key = x + size[0] * (y + size[1] * z);
+          if (sampled[key >> 6] >> (key & 63) & 1)
           {
-            // A ray in a cell plane belongs to the cell above it (the last cell keeps its
-            // far face), so no sample is taken twice.
-            inside = inside && o[a] >= c[a] &&
-              (o[a] < c[a] + 1 || (c[a] + 1 == I.Cells[a] && o[a] <= c[a] + 1));
-            continue;
-          }
-          // The same expression for a plane in both cells that share it: equal t.
-          const double t1 = (c[a] - o[a]) * I.InvD[a];
-          const double t2 = (c[a] + 1 - o[a]) * I.InvD[a];
-          tin = std::max(tin, std::min(t1, t2));
-          tout = std::min(tout, std::max(t1, t2));
-        }
-        if (!inside || !(tin < tout))
-        {
-          continue;
-        }
-        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
-        const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
-        const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
-        // The first sample position at or after tin, whatever the product rounds to (a
-        // sample exactly on a face belongs to the cell behind it, and to no other).
-        double n = std::ceil((tin - phase) * perStep);
-        if (phase + n * step < tin)
-        {
-          n += 1.0;
-        }
-        while (phase + (n - 1.0) * step >= tin)
-        {
-          n -= 1.0;
-        }
-        float* pixel = this->Image + 4 * p;
-        // Local coordinates in float from the cell entry, where they are small: the ray at
-        // tin, and its direction.
-        float entry[3], direction[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          entry[a] = static_cast<float>(o[a] + tin * I.D[a] - c[a]);
-          direction[a] = static_cast<float>(I.D[a]);
-        }
-        for (double t = phase + n * step; t < tout; n += 1.0, t = phase + n * step)
-        {
-          const float dt = static_cast<float>(t - tin);
-          float u[3];
-          for (int a = 0; a < 3; ++a)
-          {
-            u[a] = std::min(std::max(entry[a] + dt * direction[a], 0.0f), 1.0f);
-          }
-          const float s = Trilinear(corners, u);
-          // Classification after interpolation, linear between table entries.
-          float e = (s - this->S0) * this->InvStep;
-          e = std::min(std::max(e, 0.0f), this->LastEntry);
-          const int e0 = std::min(static_cast<int>(e), I.Entries - 2);
-          const float f = e - static_cast<float>(e0);
-          const float* a0 = I.Table.data() + 4 * e0;
-          ++samples;
-          float shade = 1.0f, highlight = 0.0f;
-          if (I.Shading == 1)
-          {
-            float g[3];
-            for (int a = 0; a < 3; ++a)
-            {
-              g[a] = Trilinear(gradients[a], u);
-            }
-            I.Lighting(I.LightCosine(g), shade, highlight);
-          }
-          else if (I.Shading == 2)
-          {
-            shade = Trilinear(lit[0], u);
-            highlight = Trilinear(lit[1], u);
-          }
-          // The pieces of ray this sample accounts for, front to back (at most three).
-          float rgb[3][3], alpha[3], shades[3][2];
-          int pieces = 0;
-          const bool last = t + step >= tx;
-          if (I.Preintegrated)
-          {
-            // Pre-integrated segments between consecutive samples (Engel et al.'s table, the
-            // project's vtkFirstOrderPreIntegrationTable); point-sampled pieces from the chord's
-            // entry (or after a gap of transparent cells) to the first sample and from the
-            // last one to the exit.
-            const double previousT = this->PreviousT[p];
-            const bool joined = previousT == previousT && t - previousT < 1.5 * step;
-            if (!joined && this->PendingEntry[p] == this->PendingEntry[p])
-            {
-              // After a gap of transparent cells: the previous sample's trailing half step.
-              this->PendingPiece(p, rgb[pieces], alpha[pieces], shades[pieces]);
-              ++pieces;
-            }
-            if (joined)
-            {
-              float front = (this->PreviousScalar[p] - this->S0) * this->SegmentScale;
-              float back = (s - this->S0) * this->SegmentScale;
-              front = std::min(std::max(front, 0.0f), this->SegmentLast);
-              back = std::min(std::max(back, 0.0f), this->SegmentLast);
-              const int i0 = std::min(static_cast<int>(front), I.SegmentEntries - 2);
-              const int j0 = std::min(static_cast<int>(back), I.SegmentEntries - 2);
-              const float fi = front - i0, fj = back - j0;
-              const float* e00 = I.Segments + 4 * (i0 + static_cast<size_t>(I.SegmentEntries) * j0);
-              const float* e01 = e00 + 4 * I.SegmentEntries;
-              float entry[4];
-              for (int ch = 0; ch < 4; ++ch)
-              {
-                const float lower = e00[ch] + fi * (e00[ch + 4] - e00[ch]);
-                const float upper = e01[ch] + fi * (e01[ch + 4] - e01[ch]);
-                entry[ch] = lower + fj * (upper - lower);
-              }
-              alpha[pieces] = entry[3];
-              std::copy(entry, entry + 3, rgb[pieces]);
-            }
-            else
-            {
-              PointPiece(
-                a0, f, t - (t - step < te ? te : t - 0.5 * step), step, rgb[pieces], alpha[pieces]);
-            }
-            shades[pieces][0] = shade;
-            shades[pieces][1] = highlight;
-            ++pieces;
-            if (last)
-            {
-              PointPiece(a0, f, tx - t, step, rgb[pieces], alpha[pieces]);
-              shades[pieces][0] = shade;
-              shades[pieces][1] = highlight;
-              ++pieces;
-            }
-            this->PreviousScalar[p] = s;
-            this->PreviousT[p] = t;
-            // Until the next sample joins it by a segment, this one owes its trailing half
-            // step (composited after a gap, or at the end of the walk).
-            this->PendingEntry[p] = last ? std::numeric_limits<float>::quiet_NaN() : e;
-            this->PendingShade[2 * p] = shade;
-            this->PendingShade[2 * p + 1] = highlight;
-          }
-          else
-          {
-            // Each sample stands for the part of the ray closer to it than to its neighbours,
-            // the first one from the box entry on and the last one up to the exit (midpoint
-            // rule with the ends included), so no part of the chord is left out or counted
-            // twice whatever the phase.
-            const double from = t - step < te ? te : t - 0.5 * step;
-            const double to = last ? tx : t + 0.5 * step;
-            PointPiece(a0, f, to - from, step, rgb[pieces], alpha[pieces]);
-            shades[pieces][0] = shade;
-            shades[pieces][1] = highlight;
-            ++pieces;
-          }
-          bool opaque = false;
-          for (int piece = 0; piece < pieces && !opaque; ++piece)
-          {
-            if (!(alpha[piece] > 0.0f))
-            {
-              continue;
-            }
-            for (int ch = 0; ch < 3; ++ch)
-            {
-              rgb[piece][ch] = std::min(
-                rgb[piece][ch] * shades[piece][0] + shades[piece][1] * alpha[piece], alpha[piece]);
-            }
-            opaque = this->Over(pixel, rgb[piece], alpha[piece], lx, ly);
-          }
-          if (opaque)
-          {
-            break;
+            const size_t bit = first + x + full * (y + size_t(full) * z);
+            this->I.SampledBits[bit >> 6].fetch_or(
+              uint64_t(1) << (bit & 63), std::memory_order_relaxed);
           }
         }
       }
     }
-    this->Samples += samples;
   }
 };
 }
@@ -1081,32 +1359,41 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   // Tiles in parallel; each pixel is written by its tile only.
   const int tile = this->TileSize;
   const int tilesX = (I.Width + tile - 1) / tile, tilesY = (I.Height + tile - 1) / tile;
-  const size_t cellCount = I.Bricks.size(); // one stamp per brick address
-  if (I.CellFrameCount != cellCount)
+  // Leaves: LeafSize, or from the projected size of a cell (see the header).
+  int leafLevel = 0;
+  if (this->LeafSize > 0)
   {
-    I.CellFrames.reset(new std::atomic<uint32_t>[cellCount]);
-    I.CellFrameCount = cellCount;
-    for (size_t c = 0; c < cellCount; ++c)
+    while (leafLevel < MaxLeafLevel && (2 << leafLevel) <= this->LeafSize)
     {
-      I.CellFrames[c].store(0, std::memory_order_relaxed);
+      ++leafLevel;
     }
-    I.FrameNumber = 0;
   }
-  if (++I.FrameNumber == 0) // wrapped: clear the stamps once
+  else
   {
-    for (size_t c = 0; c < cellCount; ++c)
+    leafLevel = I.AutomaticLeafLevel();
+  }
+  I.LeafLevel = std::min(leafLevel, this->Octree->GetNumberOfLevels());
+  this->Octree->GetLevelSize(I.LeafLevel, I.LeafCount);
+  const size_t words =
+    (static_cast<size_t>(I.LeafCount[0]) * I.LeafCount[1] * I.LeafCount[2] << (3 * I.LeafLevel)) /
+      64 +
+    1;
+  if (I.SampledWords != words)
+  {
+    I.SampledBits.reset(new std::atomic<uint64_t>[words]);
+    I.SampledWords = words;
+    for (size_t w = 0; w < words; ++w)
     {
-      I.CellFrames[c].store(0, std::memory_order_relaxed);
+      I.SampledBits[w].store(0, std::memory_order_relaxed);
     }
-    I.FrameNumber = 1;
   }
   std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
   std::vector<double> previousT(
     static_cast<size_t>(I.Width) * I.Height, std::numeric_limits<double>::quiet_NaN());
-  std::vector<float> pendingEntry(I.Preintegrated ? static_cast<size_t>(I.Width) * I.Height : 0,
+  std::vector<float> pendingScalar(I.Preintegrated ? static_cast<size_t>(I.Width) * I.Height : 0,
     std::numeric_limits<float>::quiet_NaN());
-  std::vector<float> pendingShade(2 * pendingEntry.size());
-  vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0), cells(0);
+  std::vector<float> pendingShade(2 * pendingScalar.size());
+  vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
   float* image = rgba->GetPointer(0);
   vtkSMPTools::For(0,
     static_cast<vtkIdType>(tilesX) * tilesY,
@@ -1115,11 +1402,9 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     {
       TileWalker walker(I, this->Octree);
       walker.Image = image;
-      walker.CellFrames = I.CellFrames.get();
-      walker.FrameStamp = I.FrameNumber;
       walker.PreviousScalar = previousScalar.data();
       walker.PreviousT = previousT.data();
-      walker.PendingEntry = I.Preintegrated ? pendingEntry.data() : nullptr;
+      walker.PendingScalar = I.Preintegrated ? pendingScalar.data() : nullptr;
       walker.PendingShade = pendingShade.data();
       for (vtkIdType t = t0; t < t1; ++t)
       {
@@ -1132,7 +1417,6 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       }
       nodes.Local() += walker.Nodes;
       samples.Local() += walker.Samples;
-      cells.Local() += walker.Cells;
     });
   for (vtkIdType n : nodes)
   {
@@ -1142,7 +1426,25 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   {
     this->NumberOfSamples += s;
   }
-  for (vtkIdType n : cells)
+  // Cells sampled, each once; the bits are cleared for the next frame.
+  vtkSMPThreadLocal<vtkIdType> sampled(0);
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(I.SampledWords),
+    [&](vtkIdType w0, vtkIdType w1)
+    {
+      vtkIdType count = 0;
+      for (vtkIdType w = w0; w < w1; ++w)
+      {
+        const uint64_t bits = I.SampledBits[w].load(std::memory_order_relaxed);
+        if (bits)
+        {
+          count += __builtin_popcountll(bits);
+          I.SampledBits[w].store(0, std::memory_order_relaxed);
+        }
+      }
+      sampled.Local() += count;
+    });
+  for (vtkIdType n : sampled)
   {
     this->NumberOfNonTransparentCells += n;
   }
@@ -1175,6 +1477,7 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HiddenVolumeRemoval: " << this->HiddenVolumeRemoval << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "ShadingMode: " << this->ShadingMode << "\n";
   os << indent << "Classification: " << this->Classification << "\n";
   os << indent << "VolumeMatrix: " << this->VolumeMatrix << "\n";

@@ -11,15 +11,20 @@
  *     when the current opacity transfer function is zero over its range (section 4.1), so
  *     editing the transfer function costs no rebuild;
  *   - hidden volume removal (section 4.2): a node whose screen rectangle is opaque in the
- *     vtkHierarchicalOcclusionMap is skipped; a pixel becomes opaque, and stops taking
- *     samples, when its alpha reaches OpacityThreshold;
- *   - per cell, the 8 corners are loaded once and every pixel ray through the cell is sampled
- *     in it (section 3.1: the pixels come from the cell's projected rectangle, and an exact
- *     slab test gives each ray's segment in the cell); samples lie at t = phase + k
- *     SampleDistance along each ray, t the world distance from the camera plane, and belong
- *     to the cell where t falls (section 3.2's depth indicator, kept as the exact t); with
- *     InterleavedSampling the phase is SampleDistance / 2 on every other pixel in a
- *     checkerboard (section 3.3), trading staircase artifacts for noise;
+ *     vtkHierarchicalOcclusionMap is skipped; a pixel becomes opaque, and its ray stops
+ *     (the paper's opacity test for every treated ray), when its alpha reaches
+ *     OpacityThreshold;
+ *   - the octree's leaves are nodes of LeafSize^3 cells (1: the paper's single cells); each
+ *     leaf that is neither transparent nor hidden is rendered while its points are in cache
+ *     (copied once into a small array): every pixel ray through it (section 3.1: the pixels
+ *     of the leaf's projected rectangle, an exact slab test for each ray's segment in the
+ *     leaf) walks the leaf's cells and is sampled in each cell whose corner range is not
+ *     transparent, from the corners loaded when it enters the cell; transparent cells take
+ *     no sample. Samples lie at t = phase + k SampleDistance along each ray, t the world
+ *     distance from the camera plane, and belong to the leaf and the cell where t falls
+ *     (section 3.2's depth indicator, kept as the exact t); with InterleavedSampling the
+ *     phase is SampleDistance / 2 on every other pixel in a checkerboard (section 3.3),
+ *     trading staircase artifacts for noise;
  *   - classification after interpolation, chosen by Classification: PREINTEGRATED (default)
  *     composites the segment between consecutive samples of a ray from the first-order
  *     pre-integration table (vtkFirstOrderPreIntegrationTable, Engel et al.; the ray's ends
@@ -41,10 +46,11 @@
  * 8 vertices. Perspective cameras are an error (the paper's method needs every cell to project
  * to the same shape); vtkObjectOrderVolumeMapper falls back to VTK's own ray caster for them.
  *
- * Counters of the last update (the paper's Table 1): non-transparent cells rendered (not
- * hidden), octree nodes visited (summed over tiles), samples. ComputeNonTransparentCells()
- * counts the non-transparent cells in view without hidden volume removal, for the occluded
- * ratio.
+ * Counters of the last update (the paper's Table 1): non-transparent cells rendered (sampled
+ * by a ray whose pixel was not yet opaque: the cells whose data were used), octree nodes
+ * visited (summed over tiles), samples. ComputeNonTransparentCells() counts the
+ * non-transparent cells in view, for the occluded ratio: the cells that hidden volume
+ * removal (node tests and the rays' opacity test) kept out of the work.
  */
 #ifndef vtkObjectOrderRayCaster_h
 #define vtkObjectOrderRayCaster_h
@@ -155,9 +161,22 @@ public:
 
   ///@{
   /**
-   * Counters of the last update: non-transparent cells rendered (each cell once, however
-   * many tiles it touches), octree nodes visited (summed over tiles, cells included), samples
-   * taken.
+   * Cells per edge of the octree's leaves, the nodes rendered as a whole: 1 (the paper's
+   * per-cell rendering), 2, 4 or 8 (rounded down to a power of two); 0 chooses from the view,
+   * the smallest leaves that project to at least 8 pixels across. Larger leaves pay less
+   * traversal and fewer screen tests per sample, smaller ones skip transparent and hidden
+   * space more finely. The image depends on it only by float rounding (the samples and the
+   * cells they fall in are the same). Initial value is 0.
+   */
+  vtkSetClampMacro(LeafSize, int, 0, 8);
+  vtkGetMacro(LeafSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Counters of the last update: non-transparent cells rendered (sampled by a ray not yet
+   * opaque; each cell once, however many tiles and rays sample it), octree nodes visited
+   * (summed over tiles, leaves included), samples taken.
    */
   vtkGetMacro(NumberOfNonTransparentCells, vtkIdType);
   vtkGetMacro(NumberOfNodesVisited, vtkIdType);
@@ -166,8 +185,9 @@ public:
 
   /**
    * Non-transparent cells of the last update's volume and transfer function whose screen
-   * rectangle meets the image, without hidden volume removal: the denominator of the
-   * occluded-cell ratio. Walks the octree without sampling; -1 before a successful update.
+   * rectangle meets the image: the denominator of the occluded-cell ratio (the cells that
+   * hidden volume removal kept out of the work are this minus the cells rendered). Walks the
+   * octree down to the cells without sampling; -1 before a successful update.
    */
   vtkIdType ComputeNonTransparentCells();
 
@@ -199,6 +219,7 @@ protected:
   bool HiddenVolumeRemoval = true;
   double OpacityThreshold = 0.999;
   int TileSize = 32;
+  int LeafSize = 0;
   int ShadingMode = POST_SHADING;
   int Classification = PREINTEGRATED;
   vtkFirstOrderPreIntegrationTable* SegmentTable;
