@@ -35,22 +35,16 @@ vtkCxxSetObjectMacro(vtkObjectOrderRayCaster, VolumeMatrix, vtkMatrix4x4);
 
 namespace
 {
-constexpr int BrickBits = 5; // bricks of 32^3 points
-constexpr int BrickSide = 1 << BrickBits;
-constexpr int MaxLeafLevel = 3;    // leaves of at most 8^3 cells
+// The volume is kept in bricks of 8^3 cells that hold their far faces too (9^3 points), so
+// that any leaf of the octree (at most 8^3 cells, aligned) lies in one brick with its points
+// at fixed strides (section 4.3.4's aim: a cell's corners and its neighbours share cache
+// lines), at 1.42 times the memory of a plain float copy.
+constexpr int BrickCells = 8;
+constexpr int BrickPoints = BrickCells + 1;
+constexpr int BrickValues = BrickPoints * BrickPoints * BrickPoints;
+constexpr int BrickWords = BrickCells * BrickCells * BrickCells / 64; // a bit per cell
+constexpr int MaxLeafLevel = 3;    // leaves of at most 8^3 cells: inside one brick
 constexpr double LeafPixels = 8.0; // automatic leaves project to at least this many pixels
-
-// Spread the 5 low bits of v to every third bit, from bit offset (section 4.3.4's interleaving
-// of the coordinates inside a brick: z4 y4 x4 ... z0 y0 x0).
-uint32_t Spread(int v, int offset)
-{
-  uint32_t r = 0;
-  for (int b = 0; b < BrickBits; ++b)
-  {
-    r |= static_cast<uint32_t>((v >> b) & 1) << (3 * b + offset);
-  }
-  return r;
-}
 }
 
 namespace
@@ -59,17 +53,28 @@ namespace
 class Frame
 {
 public:
-  // The volume, copied into Morton-ordered float bricks; rebuilt when the scalars change.
+  // The volume, copied into float bricks (BrickValues each, bricks and their points x
+  // fastest); rebuilt when the scalars change.
   vtkDataArray* Scalars = nullptr; // not referenced: only compared
   vtkMTimeType ScalarsTime = 0;
   int Dims[3] = { 0, 0, 0 };
   int Cells[3] = { 0, 0, 0 };
   int BrickCount[3] = { 0, 0, 0 };
+  size_t BrickTotal = 0;
   std::vector<float> Bricks;
-  // A point's address in Bricks is a sum of one term per axis (the brick index sits above
-  // the 15 interleaved bits, so the brick's and the bits' parts add): Address(x, y, z) =
+  // A point's address in Bricks (in the brick where it is not a far face, but for the
+  // volume's far faces) is a sum of one term per axis: Address(x, y, z) =
   // AxisAddress[0][x] + AxisAddress[1][y] + AxisAddress[2][z].
   std::vector<size_t> AxisAddress[3];
+  // Per brick, its visible cells (a bit per cell, x + 8 y + 64 z) for the classification of
+  // version VisibleVersion, and the version they were found for: found when a ray first
+  // needs them, once per transfer function, range or data rather than once per frame.
+  std::unique_ptr<std::atomic<uint64_t>[]> VisibleBits;
+  std::unique_ptr<std::atomic<uint32_t>[]> VisibleVersions;
+  uint32_t VisibleVersion = 0;
+  // Per brick, its cells a ray took a sample in this frame (same bits), so that each cell
+  // counts once whatever the tiles and rays; counted and cleared at the end of the frame.
+  std::unique_ptr<std::atomic<uint64_t>[]> SampledBits;
 
   // The frame: pixel (i, j)'s ray is O + i EX + j EY + t D in grid index, t the world
   // distance from the camera plane; (u, v) = Inverse rows 0-1 applied to (p - O) project a
@@ -88,14 +93,9 @@ public:
   double S0 = 0.0, InvStep = 1.0;
   std::vector<int> VisiblePrefix;      // visible bins before bin b
   std::array<double, 5> TableKey = {}; // what the two tables above were built for
-  // The octree level whose nodes are ray cast as a whole (leaves of 2^LeafLevel cells per
-  // edge), and one bit per cell of every leaf, leaf after leaf (8^LeafLevel bits each): set
-  // when a ray took a sample in the cell this frame, so that each cell counts once whatever
-  // the tiles and rays; counted and cleared at the end of the frame.
+  // The octree level whose nodes are rendered as a whole (leaves of 2^LeafLevel cells per
+  // edge).
   int LeafLevel = 0;
-  int LeafCount[3] = { 0, 0, 0 };
-  std::unique_ptr<std::atomic<uint64_t>[]> SampledBits;
-  size_t SampledWords = 0;
   // Pre-integrated classification: the first-order table over (front, back) scalar for one
   // step (RGBA premultiplied, front fastest), entries at S0 + e / SegmentInvStep.
   bool Preintegrated = false;
@@ -131,43 +131,159 @@ public:
     for (int a = 0; a < 3; ++a)
     {
       this->Cells[a] = dims[a] - 1;
-      this->BrickCount[a] = (dims[a] + BrickSide - 1) / BrickSide;
+      this->BrickCount[a] = std::max((this->Cells[a] + BrickCells - 1) / BrickCells, 1);
     }
-    // Bricks x fastest; the 5 low bits of each coordinate interleaved inside a brick.
     const size_t brickStride[3] = { 1,
       static_cast<size_t>(this->BrickCount[0]),
       static_cast<size_t>(this->BrickCount[0]) * this->BrickCount[1] };
+    const size_t pointStride[3] = { 1, BrickPoints, BrickPoints * BrickPoints };
     for (int a = 0; a < 3; ++a)
     {
       this->AxisAddress[a].resize(dims[a]);
       for (int v = 0; v < dims[a]; ++v)
       {
-        this->AxisAddress[a][v] =
-          (brickStride[a] * (v >> BrickBits) << (3 * BrickBits)) + Spread(v & (BrickSide - 1), a);
+        const int brick = std::min(v / BrickCells, this->BrickCount[a] - 1);
+        this->AxisAddress[a][v] = brickStride[a] * brick * BrickValues +
+          pointStride[a] * static_cast<size_t>(v - brick * BrickCells);
       }
     }
-    this->Bricks.assign(
-      static_cast<size_t>(this->BrickCount[0]) * this->BrickCount[1] * this->BrickCount[2]
-        << (3 * BrickBits),
-      0.0f);
+    this->BrickTotal = brickStride[2] * this->BrickCount[2];
+    this->Bricks.assign(this->BrickTotal * BrickValues, 0.0f);
     const auto values = vtk::DataArrayValueRange<1>(scalars);
     vtkSMPTools::For(0,
-      dims[2],
-      [&](vtkIdType k0, vtkIdType k1)
+      static_cast<vtkIdType>(this->BrickTotal),
+      [&](vtkIdType b0, vtkIdType b1)
       {
-        for (int k = static_cast<int>(k0); k < k1; ++k)
+        for (vtkIdType b = b0; b < b1; ++b)
         {
-          for (int j = 0; j < dims[1]; ++j)
+          const int origin[3] = { static_cast<int>(b % this->BrickCount[0]) * BrickCells,
+            static_cast<int>(b / this->BrickCount[0] % this->BrickCount[1]) * BrickCells,
+            static_cast<int>(b / brickStride[2]) * BrickCells };
+          float* brick = this->Bricks.data() + b * BrickValues;
+          for (int z = origin[2]; z < std::min(origin[2] + BrickPoints, dims[2]); ++z)
           {
-            const vtkIdType row =
-              static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k);
-            for (int i = 0; i < dims[0]; ++i)
+            for (int y = origin[1]; y < std::min(origin[1] + BrickPoints, dims[1]); ++y)
             {
-              this->Bricks[this->Address(i, j, k)] = static_cast<float>(values[row + i]);
+              const vtkIdType row =
+                static_cast<vtkIdType>(dims[0]) * (y + static_cast<vtkIdType>(dims[1]) * z);
+              float* out = brick + BrickPoints * ((y - origin[1]) + BrickPoints * (z - origin[2]));
+              for (int x = origin[0]; x < std::min(origin[0] + BrickPoints, dims[0]); ++x)
+              {
+                out[x - origin[0]] = static_cast<float>(values[row + x]);
+              }
             }
           }
         }
       });
+    this->VisibleBits.reset(new std::atomic<uint64_t>[this->BrickTotal * BrickWords]);
+    this->SampledBits.reset(new std::atomic<uint64_t>[this->BrickTotal * BrickWords]);
+    this->VisibleVersions.reset(new std::atomic<uint32_t>[this->BrickTotal]);
+    for (size_t w = 0; w < this->BrickTotal * BrickWords; ++w)
+    {
+      this->SampledBits[w].store(0, std::memory_order_relaxed);
+    }
+    for (size_t b = 0; b < this->BrickTotal; ++b)
+    {
+      this->VisibleVersions[b].store(0, std::memory_order_relaxed);
+    }
+    this->VisibleVersion = 0;
+    this->NewClassification();
+  }
+
+  // The visible cells of every brick are to be found again (the classification changed).
+  void NewClassification()
+  {
+    if (++this->VisibleVersion == 0) // wrapped: forget every brick's version once
+    {
+      for (size_t b = 0; b < this->BrickTotal; ++b)
+      {
+        this->VisibleVersions[b].store(0, std::memory_order_relaxed);
+      }
+      this->VisibleVersion = 1;
+    }
+  }
+
+  // The visible cells of brick b (at brick coordinates bc), found the first time a ray needs
+  // them for this classification: a cell is visible when its 8 corners are finite and the
+  // opacity may be non-zero in their range (Visible), the ranges of all cells found by
+  // separable passes (pairs of points along x, then pairs of those along y, then along z).
+  // Tiles racing for the same brick find the same bits.
+  void BrickVisibility(size_t b, const int bc[3], uint64_t bits[BrickWords]) const
+  {
+    if (this->VisibleVersions[b].load(std::memory_order_acquire) == this->VisibleVersion)
+    {
+      for (int w = 0; w < BrickWords; ++w)
+      {
+        bits[w] = this->VisibleBits[b * BrickWords + w].load(std::memory_order_relaxed);
+      }
+      return;
+    }
+    int n[3]; // cells of the brick
+    for (int a = 0; a < 3; ++a)
+    {
+      n[a] = std::min(BrickCells, this->Cells[a] - bc[a] * BrickCells);
+    }
+    const float* v = this->Bricks.data() + b * BrickValues;
+    constexpr int P = BrickPoints, PP = BrickPoints * BrickPoints;
+    float low[BrickValues], high[BrickValues]; // at the index of the pair's (first) point
+    bool finite = true;
+    for (int z = 0; z <= n[2]; ++z)
+    {
+      for (int y = 0; y <= n[1]; ++y)
+      {
+        const int r = P * y + PP * z;
+        for (int x = 0; x < n[0]; ++x)
+        {
+          low[r + x] = std::min(v[r + x], v[r + x + 1]);
+          high[r + x] = std::max(v[r + x], v[r + x + 1]);
+        }
+        for (int x = 0; x <= n[0]; ++x)
+        {
+          finite = finite && std::isfinite(v[r + x]);
+        }
+      }
+    }
+    for (int z = 0; z <= n[2]; ++z)
+    {
+      for (int y = 0; y < n[1]; ++y)
+      {
+        const int r = P * y + PP * z;
+        for (int x = 0; x < n[0]; ++x)
+        {
+          low[r + x] = std::min(low[r + x], low[r + P + x]);
+          high[r + x] = std::max(high[r + x], high[r + P + x]);
+        }
+      }
+    }
+    std::fill(bits, bits + BrickWords, uint64_t(0));
+    for (int z = 0; z < n[2]; ++z)
+    {
+      for (int y = 0; y < n[1]; ++y)
+      {
+        const int r = P * y + PP * z;
+        for (int x = 0; x < n[0]; ++x)
+        {
+          const int cell = x + BrickCells * (y + BrickCells * z);
+          bool visible = this->Visible(
+            std::min(low[r + x], low[r + PP + x]), std::max(high[r + x], high[r + PP + x]));
+          if (visible && !finite)
+          {
+            // A NaN or infinite corner makes the cell transparent (the interpolant is NaN).
+            const float* c = v + r + x;
+            for (const int o : { 0, 1, P, P + 1, PP, PP + 1, PP + P, PP + P + 1 })
+            {
+              visible = visible && std::isfinite(c[o]);
+            }
+          }
+          bits[cell >> 6] |= uint64_t(visible) << (cell & 63);
+        }
+      }
+    }
+    for (int w = 0; w < BrickWords; ++w)
+    {
+      this->VisibleBits[b * BrickWords + w].store(bits[w], std::memory_order_relaxed);
+    }
+    this->VisibleVersions[b].store(this->VisibleVersion, std::memory_order_release);
   }
 
   // The 8 corners of cell (i, j, k), indexed x + 2 y + 4 z, and their range; false when one
@@ -351,96 +467,71 @@ void BinDirection(int bin, double n[3])
   vtkMath::Normalize(n);
 }
 
-// The points of a leaf (at most 9^3), copied from the bricks when a ray first enters one of
-// its cells, so that a cell's 8 corners are loads at fixed offsets.
-struct LeafPoints
+// A leaf of the octree inside its brick: its points (strides 1, BrickPoints, BrickPoints^2
+// from its first one) and the brick's visible cells (bits x + 8 y + 64 z), fetched when a
+// ray first enters the leaf, and the brick's cells the leaf's rays took samples in.
+struct LeafView
 {
-  int Size[3]; // points per axis: the leaf's cells + 1
+  size_t Brick;
+  int BrickCoordinates[3];
+  const float* Points; // the leaf's first point
+  int FirstCell;       // the brick's bit of the leaf's first cell
   bool Loaded = false;
-  float Values[((1 << MaxLeafLevel) + 1) * ((1 << MaxLeafLevel) + 1) * ((1 << MaxLeafLevel) + 1)];
-  // Per cell (leaf-local index): 0 not known yet, 1 transparent, 2 visible.
-  uint8_t State[1 << (3 * MaxLeafLevel)];
+  uint64_t Visible[BrickWords];
+  uint64_t Sampled[BrickWords] = {};
 
-  LeafPoints(const int cells[3])
+  LeafView(const Frame& I, const int lo[3])
   {
+    int local[3];
     for (int a = 0; a < 3; ++a)
     {
-      this->Size[a] = cells[a] + 1;
+      this->BrickCoordinates[a] = lo[a] / BrickCells;
+      local[a] = lo[a] - this->BrickCoordinates[a] * BrickCells;
     }
-    std::fill(this->State, this->State + cells[0] * cells[1] * cells[2], uint8_t(0));
+    this->Brick = this->BrickCoordinates[0] +
+      static_cast<size_t>(I.BrickCount[0]) *
+        (this->BrickCoordinates[1] +
+          static_cast<size_t>(I.BrickCount[1]) * this->BrickCoordinates[2]);
+    this->Points = I.Bricks.data() + this->Brick * BrickValues + local[0] +
+      BrickPoints * (local[1] + BrickPoints * local[2]);
+    this->FirstCell = local[0] + BrickCells * (local[1] + BrickCells * local[2]);
   }
 
-  // Whether the leaf's cell c (leaf-local, index key; the leaf starts at point lo) is
-  // visible; then its corners in v. Each cell's corner range is tested once per leaf.
-  bool Cell(const Frame& I, const int lo[3], const int c[3], int key, float v[8])
+  void Load(const Frame& I)
   {
-    switch (this->State[key])
-    {
-      case 1:
-        return false;
-      case 2:
-        this->Load(c, v);
-        return true;
-      default:
-      {
-        float low, high;
-        const bool visible = this->Corners(I, lo, c, v, low, high) && I.Visible(low, high);
-        this->State[key] = visible ? 2 : 1;
-        return visible;
-      }
-    }
+    I.BrickVisibility(this->Brick, this->BrickCoordinates, this->Visible);
+    this->Loaded = true;
   }
 
-  // The corners of the leaf's cell c, indexed x + 2 y + 4 z (the points loaded).
-  void Load(const int c[3], float v[8]) const
+  bool IsVisible(int cell) const { return (this->Visible[cell >> 6] >> (cell & 63)) & 1; }
+
+  // The corners of the cell whose first point is at offset point from the leaf's first
+  // point, indexed x + 2 y + 4 z.
+  void Corners(int point, float v[8]) const
   {
-    const int sx = this->Size[0], sxy = this->Size[0] * this->Size[1];
-    const float* b = this->Values + c[0] + sx * c[1] + sxy * c[2];
+    constexpr int P = BrickPoints, PP = BrickPoints * BrickPoints;
+    const float* b = this->Points + point;
     v[0] = b[0];
     v[1] = b[1];
-    v[2] = b[sx];
-    v[3] = b[sx + 1];
-    v[4] = b[sxy];
-    v[5] = b[sxy + 1];
-    v[6] = b[sxy + sx];
-    v[7] = b[sxy + sx + 1];
+    v[2] = b[P];
+    v[3] = b[P + 1];
+    v[4] = b[PP];
+    v[5] = b[PP + 1];
+    v[6] = b[PP + P];
+    v[7] = b[PP + P + 1];
   }
 
-  // The corners of the leaf's cell c (leaf-local; the leaf starts at point lo), indexed
-  // x + 2 y + 4 z, and their range; false when one is not finite (see Frame::Corners).
-  bool Corners(const Frame& I, const int lo[3], const int c[3], float v[8], float& low, float& high)
+  // The cells sampled, into the frame's bits.
+  void Flush(const Frame& I) const
   {
-    const int sx = this->Size[0], sxy = this->Size[0] * this->Size[1];
-    if (!this->Loaded)
+    for (int w = 0; w < BrickWords; ++w)
     {
-      const size_t* ax = I.AxisAddress[0].data() + lo[0];
-      const size_t* ay = I.AxisAddress[1].data() + lo[1];
-      const size_t* az = I.AxisAddress[2].data() + lo[2];
-      float* out = this->Values;
-      for (int z = 0; z < this->Size[2]; ++z)
+      if (this->Sampled[w])
       {
-        for (int y = 0; y < this->Size[1]; ++y)
-        {
-          const float* plane = I.Bricks.data() + az[z] + ay[y];
-          for (int x = 0; x < sx; ++x)
-          {
-            *out++ = plane[ax[x]];
-          }
-        }
+        I.SampledBits[this->Brick * BrickWords + w].fetch_or(
+          this->Sampled[w], std::memory_order_relaxed);
       }
-      this->Loaded = true;
     }
-    this->Load(c, v);
-    bool finite = true;
-    low = std::numeric_limits<float>::infinity();
-    high = -low;
-    for (int n = 0; n < 8; ++n)
-    {
-      finite = finite && std::isfinite(v[n]);
-      low = std::min(low, v[n]);
-      high = std::max(high, v[n]);
-    }
-    return finite;
   }
 };
 
@@ -457,6 +548,8 @@ public:
   // view) in float, its sign and inverse per axis, and the span of t between planes.
   float Direction[3], InvDirection[3], Span[3];
   int StepTo[3];
+  int KeyStep[3];   // the change of a cell's bit in its brick for a step across each axis
+  int PointStep[3]; // and of its first point's offset
   vtkHierarchicalOcclusionMap Occlusion;
   int Clip[4];  // tile pixels [x0, x1] x [y0, y1]
   int First[3]; // child visited first per axis: 0 (low) when the rays go up that axis
@@ -568,25 +661,26 @@ public:
     , SegmentScale(static_cast<float>(internals.SegmentInvStep))
     , SegmentLast(static_cast<float>(internals.SegmentEntries - 1))
   {
+    const int cellStride[3] = { 1, BrickCells, BrickCells * BrickCells };
+    const int pointStride[3] = { 1, BrickPoints, BrickPoints * BrickPoints };
     for (int a = 0; a < 3; ++a)
     {
       this->First[a] = internals.D[a] >= 0.0 ? 0 : 1;
-      for (int a = 0; a < 3; ++a)
-      {
-        this->Direction[a] = static_cast<float>(internals.D[a]);
-        this->StepTo[a] = this->Direction[a] > 0.0f ? 1 : (this->Direction[a] < 0.0f ? -1 : 0);
-        this->InvDirection[a] = this->StepTo[a] ? 1.0f / this->Direction[a] : 0.0f;
-        this->Span[a] = this->StepTo[a] ? std::abs(this->InvDirection[a])
-                                        : std::numeric_limits<float>::infinity();
-      }
-      // The leaf's rendering specialized for the classification and the shading.
-      using Function = decltype(&TileWalker::Leaf<true, 0>);
-      const Function functions[2][3] = {
-        { &TileWalker::Leaf<false, 0>, &TileWalker::Leaf<false, 1>, &TileWalker::Leaf<false, 2> },
-        { &TileWalker::Leaf<true, 0>, &TileWalker::Leaf<true, 1>, &TileWalker::Leaf<true, 2> }
-      };
-      this->LeafFunction = functions[internals.Preintegrated ? 1 : 0][internals.Shading];
+      this->Direction[a] = static_cast<float>(internals.D[a]);
+      this->StepTo[a] = this->Direction[a] > 0.0f ? 1 : (this->Direction[a] < 0.0f ? -1 : 0);
+      this->InvDirection[a] = this->StepTo[a] ? 1.0f / this->Direction[a] : 0.0f;
+      this->Span[a] =
+        this->StepTo[a] ? std::abs(this->InvDirection[a]) : std::numeric_limits<float>::infinity();
+      this->KeyStep[a] = this->StepTo[a] * cellStride[a];
+      this->PointStep[a] = this->StepTo[a] * pointStride[a];
     }
+    // The leaf's rendering specialized for the classification and the shading.
+    using Function = decltype(&TileWalker::Leaf<true, 0>);
+    const Function functions[2][3] = {
+      { &TileWalker::Leaf<false, 0>, &TileWalker::Leaf<false, 1>, &TileWalker::Leaf<false, 2> },
+      { &TileWalker::Leaf<true, 0>, &TileWalker::Leaf<true, 1>, &TileWalker::Leaf<true, 2> }
+    };
+    this->LeafFunction = functions[internals.Preintegrated ? 1 : 0][internals.Shading];
   }
 
   void Walk(const int clip[4])
@@ -690,19 +784,20 @@ public:
   {
     const auto& I = this->I;
     int lo[3], size[3];
+    // The leaf's planes each ray meets first and last per axis (by the sign of the
+    // direction), and the far face of each axis.
+    double nearPlane[3], farPlane[3];
+    int far[3];
     for (int a = 0; a < 3; ++a)
     {
       lo[a] = index[a] << level;
       size[a] = std::min((index[a] + 1) << level, I.Cells[a]) - lo[a];
+      far[a] = lo[a] + size[a];
+      nearPlane[a] = I.D[a] > 0.0 ? lo[a] : far[a];
+      farPlane[a] = I.D[a] > 0.0 ? far[a] : lo[a];
     }
-    // The cells of the leaf that a ray sampled, leaf-local bits (x fastest).
-    uint64_t sampled[(1 << (3 * MaxLeafLevel)) / 64 + 1] = {};
-    // The leaf's points, copied from the bricks when a ray first enters one of its cells.
-    LeafPoints leaf(size);
-    // The change of the leaf-local cell index for a step of the ray across each axis.
-    const int keyStep[3] = {
-      this->StepTo[0], this->StepTo[1] * size[0], this->StepTo[2] * size[0] * size[1]
-    };
+    // The leaf in its brick; the brick's visible cells are fetched for the first ray.
+    LeafView leaf(I, lo);
     const double step = I.Step;
     const double perStep = 1.0 / step; // a product per pixel instead of a division
     vtkIdType samples = 0;             // added to this->Samples at the end (not per sample:
@@ -723,19 +818,17 @@ public:
         for (int a = 0; a < 3; ++a)
         {
           o[a] = row[a] + px * I.EX[a];
-          const int far = lo[a] + size[a];
           if (I.Still[a])
           {
             // A ray in a cell plane belongs to the cell above it (the last cell keeps its
             // far face), so no sample is taken twice.
-            inside = inside && o[a] >= lo[a] && (o[a] < far || (far == I.Cells[a] && o[a] <= far));
+            inside = inside && o[a] >= lo[a] &&
+              (o[a] < far[a] || (far[a] == I.Cells[a] && o[a] <= far[a]));
             continue;
           }
           // The same expression for a plane in both leaves that share it: equal t.
-          const double t1 = (lo[a] - o[a]) * I.InvD[a];
-          const double t2 = (far - o[a]) * I.InvD[a];
-          tin = std::max(tin, std::min(t1, t2));
-          tout = std::min(tout, std::max(t1, t2));
+          tin = std::max(tin, (nearPlane[a] - o[a]) * I.InvD[a]);
+          tout = std::min(tout, (farPlane[a] - o[a]) * I.InvD[a]);
         }
         if (!inside || !(tin < tout))
         {
@@ -743,9 +836,10 @@ public:
         }
         const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
         // The first sample position at or after tin, whatever the product rounds to (a
-        // sample exactly on a face belongs to the leaf behind it, and to no other).
-        double n = std::ceil((tin - phase) * perStep);
-        if (phase + n * step < tin)
+        // sample exactly on a face belongs to the leaf behind it, and to no other); the
+        // truncation is the ceiling or one less (tin - phase > -step).
+        double n = static_cast<double>(static_cast<long long>((tin - phase) * perStep));
+        while (phase + n * step < tin)
         {
           n += 1.0;
         }
@@ -758,6 +852,10 @@ public:
           continue;
         }
         const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
+        if (!leaf.Loaded)
+        {
+          leaf.Load(I);
+        }
         // Leaf-local coordinates in float, where they are small: the ray at tin.
         float entry[3];
         for (int a = 0; a < 3; ++a)
@@ -765,14 +863,14 @@ public:
           entry[a] = static_cast<float>(o[a] + tin * I.D[a] - lo[a]);
         }
         if (this->Segment<Preintegrated, Shading>(
-              p, phase, n, tin, tout, entry, size, lo, keyStep, leaf, sampled, samples))
+              p, phase, n, tin, tout, entry, size, lo, leaf, samples))
         {
           this->Occlusion.SetPixelOpaque(lx, ly);
         }
       }
     }
     this->Samples += samples;
-    this->FlushSampled(level, index, size, sampled);
+    leaf.Flush(I);
   }
 
   // The classification-table coordinate of a scalar (entries linear in between).
@@ -805,9 +903,7 @@ public:
     const float entry[3],
     const int size[3],
     const int lo[3],
-    const int keyStep[3],
-    LeafPoints& leaf,
-    uint64_t* sampled,
+    LeafView& leaf,
     vtkIdType& samples)
   {
     const float* direction = this->Direction;
@@ -841,7 +937,9 @@ public:
           this->InvDirection[a]
         : std::numeric_limits<float>::infinity();
     }
-    int key = c[0] + size[0] * (c[1] + size[1] * c[2]);
+    // The cell's bit in the brick and the offset of its first point from the leaf's.
+    int key = leaf.FirstCell + c[0] + BrickCells * (c[1] + BrickCells * c[2]);
+    int point = c[0] + BrickPoints * (c[1] + BrickPoints * c[2]);
     double t = phase + n * step;
     float corners[8], gradients[3][8], lit[2][8];
     bool opaque = false;
@@ -851,8 +949,9 @@ public:
       const int axis =
         next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
       const float exit = next[axis];
-      if (leaf.Cell(I, lo, c, key, corners))
+      if (leaf.IsVisible(key))
       {
+        leaf.Corners(point, corners);
         const double first = n;
         if (Shading)
         {
@@ -940,7 +1039,7 @@ public:
         }
         if (n > first)
         {
-          sampled[key >> 6] |= uint64_t(1) << (key & 63); // the cell's data made a sample
+          leaf.Sampled[key >> 6] |= uint64_t(1) << (key & 63); // the cell's data made a sample
         }
       }
       else
@@ -958,7 +1057,8 @@ public:
       if (moved >= 0 && moved < size[axis])
       {
         c[axis] = moved;
-        key += keyStep[axis];
+        key += this->KeyStep[axis];
+        point += this->PointStep[axis];
       }
       next[axis] += this->Span[axis];
     }
@@ -1025,33 +1125,6 @@ public:
       }
     }
   }
-
-  // The cells of a leaf that rays sampled, into the frame's bits (leaf-major, x fastest in a
-  // leaf of full size, so the bits of the leaf's cells are contiguous).
-  void FlushSampled(int level, const int index[3], const int size[3], const uint64_t* sampled)
-  {
-    const size_t leafCells = size_t(1) << (3 * level);
-    const size_t leaf =
-      index[0] + this->I.LeafCount[0] * (index[1] + size_t(this->I.LeafCount[1]) * index[2]);
-    const size_t first = leaf * leafCells;
-    const int full = 1 << level;
-    for (int z = 0; z < size[2]; ++z)
-    {
-      for (int y = 0; y < size[1]; ++y)
-      {
-        for (int x = 0; x < size[0]; ++x)
-        {
-          const int key = x + size[0] * (y + size[1] * z);
-          if (sampled[key >> 6] >> (key & 63) & 1)
-          {
-            const size_t bit = first + x + full * (y + size_t(full) * z);
-            this->I.SampledBits[bit >> 6].fetch_or(
-              uint64_t(1) << (bit & 63), std::memory_order_relaxed);
-          }
-        }
-      }
-    }
-  }
 };
 }
 
@@ -1086,8 +1159,10 @@ vtkMTimeType vtkObjectOrderRayCaster::GetMTime()
 //------------------------------------------------------------------------------
 vtkIdType vtkObjectOrderRayCaster::GetMemorySize() const
 {
-  return static_cast<vtkIdType>(this->Internals->Bricks.size() * sizeof(float) +
-           this->Internals->Directions.size() * sizeof(uint16_t)) +
+  const vtkInternals& I = *this->Internals;
+  return static_cast<vtkIdType>(I.Bricks.size() * sizeof(float) +
+           I.Directions.size() * sizeof(uint16_t) +
+           I.BrickTotal * (2 * BrickWords * sizeof(uint64_t) + sizeof(uint32_t))) +
     this->Octree->GetMemorySize();
 }
 
@@ -1160,6 +1235,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   if (tableKey != I.TableKey)
   {
     I.TableKey = tableKey;
+    I.NewClassification(); // the bricks' visible cells are found again
     std::vector<double> rgbTau(4 * static_cast<size_t>(entries));
     this->Sampler->Sample(range[0], range[1], entries, rgbTau.data());
     I.Table.resize(4 * static_cast<size_t>(entries));
@@ -1373,20 +1449,6 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     leafLevel = I.AutomaticLeafLevel();
   }
   I.LeafLevel = std::min(leafLevel, this->Octree->GetNumberOfLevels());
-  this->Octree->GetLevelSize(I.LeafLevel, I.LeafCount);
-  const size_t words =
-    (static_cast<size_t>(I.LeafCount[0]) * I.LeafCount[1] * I.LeafCount[2] << (3 * I.LeafLevel)) /
-      64 +
-    1;
-  if (I.SampledWords != words)
-  {
-    I.SampledBits.reset(new std::atomic<uint64_t>[words]);
-    I.SampledWords = words;
-    for (size_t w = 0; w < words; ++w)
-    {
-      I.SampledBits[w].store(0, std::memory_order_relaxed);
-    }
-  }
   std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
   std::vector<double> previousT(
     static_cast<size_t>(I.Width) * I.Height, std::numeric_limits<double>::quiet_NaN());
@@ -1429,7 +1491,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   // Cells sampled, each once; the bits are cleared for the next frame.
   vtkSMPThreadLocal<vtkIdType> sampled(0);
   vtkSMPTools::For(0,
-    static_cast<vtkIdType>(I.SampledWords),
+    static_cast<vtkIdType>(I.BrickTotal * BrickWords),
     [&](vtkIdType w0, vtkIdType w1)
     {
       vtkIdType count = 0;
