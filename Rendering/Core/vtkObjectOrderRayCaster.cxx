@@ -961,11 +961,12 @@ public:
         for (float dt = static_cast<float>(t - tin); dt < exit && t < tout && !opaque;
              n += 1.0, t = phase + n * step, dt = static_cast<float>(t - tin))
         {
+          // Local coordinates in the cell: outside [0, 1] only by rounding, where the
+          // trilinear form extends continuously.
           float u[3];
           for (int a = 0; a < 3; ++a)
           {
-            u[a] = std::min(
-              std::max(entry[a] + dt * direction[a] - static_cast<float>(c[a]), 0.0f), 1.0f);
+            u[a] = entry[a] + dt * direction[a] - static_cast<float>(c[a]);
           }
           const float s = Trilinear(corners, u);
           ++samples;
