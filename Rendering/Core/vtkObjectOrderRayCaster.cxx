@@ -604,10 +604,8 @@ public:
     float highlight,
     float threshold)
   {
-    if (!(alpha > 0.0f))
-    {
-      return false;
-    }
+    // No test for a transparent piece: it adds exactly nothing (its colour is at most its
+    // opacity, 0), and the branch on it is hard to predict.
     const float transmittance = 1.0f - acc[3];
     for (int ch = 0; ch < 3; ++ch)
     {
@@ -800,8 +798,9 @@ public:
     LeafView leaf(I, lo);
     const double step = I.Step;
     const double perStep = 1.0 / step; // a product per pixel instead of a division
-    vtkIdType samples = 0;             // added to this->Samples at the end (not per sample:
-                                       // the member may alias the image for the compiler)
+    const double interleave = I.Interleaved ? 0.5 * step : 0.0; // the odd pixels' phase
+    vtkIdType samples = 0; // added to this->Samples at the end (not per sample:
+                           // the member may alias the image for the compiler)
     for (int py = rect[2]; py <= rect[3]; ++py)
     {
       const double row[3] = { I.O[0] + py * I.EY[0], I.O[1] + py * I.EY[1], I.O[2] + py * I.EY[2] };
@@ -834,7 +833,8 @@ public:
         {
           continue;
         }
-        const double phase = I.Interleaved && ((px + py) & 1) ? 0.5 * step : 0.0;
+        // (A product, not a branch: the checkerboard alternates every pixel.)
+        const double phase = ((px + py) & 1) * interleave;
         // The first sample position at or after tin, whatever the product rounds to (a
         // sample exactly on a face belongs to the leaf behind it, and to no other); the
         // truncation is the ceiling or one less (tin - phase > -step).
@@ -943,14 +943,28 @@ public:
     double t = phase + n * step;
     float corners[8], gradients[3][8], lit[2][8];
     bool opaque = false;
+    // Where the ray entered the current cell (distance from tin): the samples before it,
+    // in the transparent cells behind, are passed over when a visible cell needs them. The
+    // walk ends past the leaf's part of the ray, span, or when no sample is left.
+    float entered = 0.0f;
+    const float span = static_cast<float>(tout - tin);
     while (t < tout && !opaque)
     {
-      // The cell's part of the ray: up to the nearest plane (the leaf's end: tout).
-      const int axis =
-        next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
+      // The cell's part of the ray: up to the nearest plane (on a tie the lower axis). In
+      // arithmetic rather than branches: which axis comes next follows the ray's slopes, a
+      // pattern branch prediction misses often.
+      const int first = static_cast<int>(next[1] < next[0]);
+      const int axis = first + static_cast<int>(next[2] < std::min(next[0], next[1])) * (2 - first);
       const float exit = next[axis];
       if (leaf.IsVisible(key))
       {
+        // The first sample in the cell (the rule of the loop below: every sample belongs to
+        // the cell its distance from tin falls in).
+        while (t < tout && static_cast<float>(t - tin) < entered)
+        {
+          n += 1.0;
+          t = phase + n * step;
+        }
         leaf.Corners(point, corners);
         const double first = n;
         if (Shading)
@@ -1043,24 +1057,19 @@ public:
           leaf.Sampled[key >> 6] |= uint64_t(1) << (key & 63); // the cell's data made a sample
         }
       }
-      else
+      // A transparent cell takes no sample. The next cell starts at this one's exit.
+      if (exit > span)
       {
-        // A transparent cell takes no sample: on to the first sample at or after its exit
-        // (the rule of the loop above, so that every sample belongs to one cell).
-        while (static_cast<float>(t - tin) < exit)
-        {
-          n += 1.0;
-          t = phase + n * step;
-        }
+        break;
       }
+      entered = exit;
       // Into the next cell (stays in the leaf: rounding at its far faces keeps the last cell).
       const int moved = c[axis] + this->StepTo[axis];
-      if (moved >= 0 && moved < size[axis])
-      {
-        c[axis] = moved;
-        key += this->KeyStep[axis];
-        point += this->PointStep[axis];
-      }
+      const int inside =
+        static_cast<int>(static_cast<unsigned>(moved) < static_cast<unsigned>(size[axis]));
+      c[axis] = inside ? moved : c[axis];
+      key += inside * this->KeyStep[axis];
+      point += inside * this->PointStep[axis];
       next[axis] += this->Span[axis];
     }
     std::copy(acc, acc + 4, pixel);
