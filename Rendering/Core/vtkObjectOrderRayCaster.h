@@ -31,8 +31,10 @@
  *     are point-sampled pieces); POINT_SAMPLED is the paper's: colour and extinction of each
  *     sample from a table over the data range (vtkPreIntegrationTable::SuggestTableSize),
  *     weighted alpha = 1 - exp(-tau length) for the part of the ray nearest to it;
- *   - the volume is copied once into float bricks of 32^3 points, Morton-ordered inside
- *     (section 4.3.4), so a cell's corners and its neighbours share cache lines;
+ *   - the volume is copied once into float bricks of 8^3 cells that keep their far faces
+ *     (9^3 points, 1.42 times a plain float copy; the paper's section 4.3.4 bricks for cache
+ *     locality), so a leaf's points lie at fixed strides, and each brick's visible cells are
+ *     found once per transfer function (not per frame);
  *   - the image is cut into tiles of TileSize pixels rendered in parallel with vtkSMPTools,
  *     each with its own occlusion map: the image does not depend on the number of threads.
  * Shading (when the volume property's Shade is on): a white headlight along the view, with
