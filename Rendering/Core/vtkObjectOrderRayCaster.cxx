@@ -888,7 +888,7 @@ public:
   }
 
   // The part [tin, tout) of pixel p's ray in the leaf at lo (size cells), from its sample
-  // phase + n step on; entry and direction: the ray at tin and its direction, leaf-local.
+  // phase + n step on; entry: the ray at tin, leaf-local (its direction is Direction).
   // The ray walks the leaf's cells (a DDA in the leaf's small float coordinates, which
   // accumulates no more than a leaf's rounding) and takes the samples of each visible cell;
   // the ray's state is held in locals meanwhile. Specialized for the classification and the
@@ -953,8 +953,9 @@ public:
       // The cell's part of the ray: up to the nearest plane (on a tie the lower axis). In
       // arithmetic rather than branches: which axis comes next follows the ray's slopes, a
       // pattern branch prediction misses often.
-      const int first = static_cast<int>(next[1] < next[0]);
-      const int axis = first + static_cast<int>(next[2] < std::min(next[0], next[1])) * (2 - first);
+      const int nearer = static_cast<int>(next[1] < next[0]); // of axes 0 and 1
+      const int axis =
+        nearer + static_cast<int>(next[2] < std::min(next[0], next[1])) * (2 - nearer);
       const float exit = next[axis];
       if (leaf.IsVisible(key))
       {
@@ -1057,7 +1058,7 @@ public:
           leaf.Sampled[key >> 6] |= uint64_t(1) << (key & 63); // the cell's data made a sample
         }
       }
-      // A transparent cell takes no sample. The next cell starts at this one's exit.
+      // The next cell starts at this one's exit (a transparent cell took no sample).
       if (exit > span)
       {
         break;
