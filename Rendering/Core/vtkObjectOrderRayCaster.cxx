@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bitset>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -1511,7 +1512,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
         const uint64_t bits = I.SampledBits[w].load(std::memory_order_relaxed);
         if (bits)
         {
-          count += __builtin_popcountll(bits);
+          count += static_cast<vtkIdType>(std::bitset<64>(bits).count());
           I.SampledBits[w].store(0, std::memory_order_relaxed);
         }
       }
