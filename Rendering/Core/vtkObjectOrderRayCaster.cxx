@@ -639,6 +639,20 @@ struct LeafView
   }
 };
 
+// A pixel's ray between leaves: its chord through the volume (Frame::Chords), its
+// premultiplied RGBA so far and, for pre-integration, its last sample (scalar, t: NaN when
+// none) and the trailing half step that sample may still owe (its scalar, NaN when nothing
+// is owed, and its shading: factor, highlight).
+struct PixelState
+{
+  double Chord[2];
+  float RGBA[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+  double PreviousT = std::numeric_limits<double>::quiet_NaN();
+  float PreviousScalar = 0.0f;
+  float PendingScalar = std::numeric_limits<float>::quiet_NaN();
+  float PendingShade[2] = { 0.0f, 0.0f };
+};
+
 // One tile's walk of the octree: front to back, skipping transparent, off-tile and hidden
 // nodes, ray casting every pixel ray through each remaining leaf.
 class TileWalker
@@ -647,6 +661,11 @@ public:
   const Frame& I;
   const vtkMinMaxOctree* Octree;
   float* Image; // W x H RGBA
+  // The tile's pixels, row by row, written to the image after the walk: a leaf's rays
+  // touch one small block instead of rows of whole-image arrays a power of two apart, which
+  // fall in the same few cache sets (measured at 512x512: 11-12% less time per frame).
+  std::vector<PixelState> Pixels;
+  int TileWidth = 0;
   void (TileWalker::*LeafFunction)(int, const int*, const int*) = nullptr;
   // The rays' direction (grid index per unit of t, the same for every ray of a parallel
   // view) in float.
@@ -658,38 +677,31 @@ public:
   bool Removal = true;
   float S0, InvStep, LastEntry;    // the table's mapping, in float for the sample loop
   float SegmentScale, SegmentLast; // the pre-integration table's mapping
-  float* PreviousScalar = nullptr; // per pixel: the last sample's scalar (pre-integration)
-  double* PreviousT = nullptr;     // and its t (NaN: none yet)
-  float* PendingScalar = nullptr;  // its scalar while it still owes
-                                   // its trailing half step (NaN: nothing owed)
-  float* PendingShade = nullptr;   // and its shading (factor, highlight), 2 per pixel
-
   // After the walk of a tile: the trailing half steps still owed (rays whose last visible
-  // sample was followed by transparent cells only).
-  void FlushPending()
+  // sample was followed by transparent cells only); then the tile into the image.
+  void Finish()
   {
-    for (int py = this->Clip[2]; this->PendingScalar && py <= this->Clip[3]; ++py)
+    const int height = this->Clip[3] - this->Clip[2] + 1;
+    for (int ly = 0; ly < height; ++ly)
     {
-      for (int px = this->Clip[0]; px <= this->Clip[1]; ++px)
+      for (int lx = 0; lx < this->TileWidth; ++lx)
       {
-        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(this->I.Width) * py;
-        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
-        if (!(this->PendingScalar[p] == this->PendingScalar[p]) ||
-          this->Occlusion.IsPixelOpaque(lx, ly))
+        PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
+        if (this->I.Preintegrated && state.PendingScalar == state.PendingScalar &&
+          !this->Occlusion.IsPixelOpaque(lx, ly))
         {
-          continue;
+          float rgb[3], alpha;
+          this->ScalarPiece(state.PendingScalar, 0.5 * this->I.Step, rgb, alpha);
+          Composite<1>(state.RGBA,
+            rgb,
+            alpha,
+            state.PendingShade[0],
+            state.PendingShade[1],
+            this->I.Threshold);
         }
-        float rgb[3], alpha;
-        this->ScalarPiece(this->PendingScalar[p], 0.5 * this->I.Step, rgb, alpha);
-        if (Composite<1>(this->Image + 4 * p,
-              rgb,
-              alpha,
-              this->PendingShade[2 * p],
-              this->PendingShade[2 * p + 1],
-              this->I.Threshold))
-        {
-          this->Occlusion.SetPixelOpaque(lx, ly);
-        }
+        const size_t p = static_cast<size_t>(this->Clip[0] + lx) +
+          static_cast<size_t>(this->I.Width) * (this->Clip[2] + ly);
+        std::copy(state.RGBA, state.RGBA + 4, this->Image + 4 * p);
       }
     }
   }
@@ -777,11 +789,28 @@ public:
   void Walk(const int clip[4])
   {
     std::copy(clip, clip + 4, this->Clip);
-    this->Occlusion.Initialize(clip[1] - clip[0] + 1, clip[3] - clip[2] + 1);
+    this->TileWidth = clip[1] - clip[0] + 1;
+    this->Occlusion.Initialize(this->TileWidth, clip[3] - clip[2] + 1);
+    if (this->Render)
+    {
+      this->Pixels.assign(static_cast<size_t>(this->TileWidth) * (clip[3] - clip[2] + 1), {});
+      for (int py = clip[2]; py <= clip[3]; ++py)
+      {
+        const double* chords =
+          this->I.Chords.data() + 2 * (clip[0] + static_cast<size_t>(this->I.Width) * py);
+        for (int lx = 0; lx < this->TileWidth; ++lx)
+        {
+          PixelState& state =
+            this->Pixels[lx + static_cast<size_t>(this->TileWidth) * (py - clip[2])];
+          state.Chord[0] = chords[2 * lx];
+          state.Chord[1] = chords[2 * lx + 1];
+        }
+      }
+    }
     this->Node(this->Octree->GetNumberOfLevels(), 0, 0, 0);
     if (this->Render)
     {
-      this->FlushPending();
+      this->Finish();
     }
   }
 
@@ -945,7 +974,6 @@ public:
         {
           continue;
         }
-        const size_t p = static_cast<size_t>(px) + static_cast<size_t>(I.Width) * py;
         if (!leaf.Loaded)
         {
           leaf.Load(I);
@@ -956,8 +984,9 @@ public:
         {
           entry[a] = static_cast<float>(o[a] + tin * I.D[a] - lo[a]);
         }
+        PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
         if (this->Segment<Preintegrated, Shading>(
-              p, phase, n, tin, tout, entry, cells, lo, leaf, samples))
+              state, phase, n, tin, tout, entry, cells, lo, leaf, samples))
         {
           this->Occlusion.SetPixelOpaque(lx, ly);
         }
@@ -981,17 +1010,17 @@ public:
     PointPiece(this->I.Table.data() + 4 * e0, e - e0, length, this->I.Step, rgb, alpha);
   }
 
-  // The part [tin, tout) of pixel p's ray in the leaf at lo, from its sample phase + n step
-  // on; entry: the ray at tin, leaf-local (its direction is Direction). Each sample position
-  // finds its cell from its leaf-local coordinates (cells), in the leaf's small float
-  // coordinates, and is taken when that cell is visible; the corners are loaded when the cell
-  // changes. (Measured against a walk cell by cell: no branch per cell crossed, whose
-  // outcome the branch predictor misses often, and fewer instructions on small cells.) The
-  // ray's state is held in locals meanwhile. Specialized for the classification and the
+  // The part [tin, tout) of a pixel's ray (its state) in the leaf at lo, from its sample
+  // phase + n step on; entry: the ray at tin, leaf-local (its direction is Direction). Each
+  // sample position finds its cell from its leaf-local coordinates (cells), in the leaf's
+  // small float coordinates, and is taken when that cell is visible; the corners are loaded
+  // when the cell changes. (Measured against a walk cell by cell: no branch per cell crossed,
+  // whose outcome the branch predictor misses often, and fewer instructions on small cells.)
+  // The ray's state is held in locals meanwhile. Specialized for the classification and the
   // shading, so the loop holds only the code the scene needs. True when the pixel became
   // opaque.
   template <bool Preintegrated, int Shading>
-  bool Segment(size_t p,
+  bool Segment(PixelState& state,
     double phase,
     double n,
     double tin,
@@ -1004,21 +1033,20 @@ public:
   {
     const auto& I = this->I;
     const double step = I.Step;
-    const double te = I.Chords[2 * p], tx = I.Chords[2 * p + 1];
+    const double te = state.Chord[0], tx = state.Chord[1];
     const float threshold = I.Threshold;
-    float* pixel = this->Image + 4 * p;
-    float acc[4] = { pixel[0], pixel[1], pixel[2], pixel[3] };
+    float acc[4] = { state.RGBA[0], state.RGBA[1], state.RGBA[2], state.RGBA[3] };
     // Pre-integration: the previous sample (scalar, t: NaN when none) and the trailing half
     // step it may still owe (its scalar, NaN when nothing is owed, and its shading).
     float previousScalar = 0.0f, pendingScalar = 0.0f, pendingShade[2] = { 0.0f, 0.0f };
     double previousT = 0.0;
     if (Preintegrated)
     {
-      previousScalar = this->PreviousScalar[p];
-      previousT = this->PreviousT[p];
-      pendingScalar = this->PendingScalar[p];
-      pendingShade[0] = this->PendingShade[2 * p];
-      pendingShade[1] = this->PendingShade[2 * p + 1];
+      previousScalar = state.PreviousScalar;
+      previousT = state.PreviousT;
+      pendingScalar = state.PendingScalar;
+      pendingShade[0] = state.PendingShade[0];
+      pendingShade[1] = state.PendingShade[1];
     }
     double t = phase + n * step;
     float corners[8], gradients[3][8], lit[2][8];
@@ -1115,14 +1143,14 @@ public:
         opaque = Composite<Shading>(acc, rgb, alpha, shade, highlight, threshold);
       }
     }
-    std::copy(acc, acc + 4, pixel);
+    std::copy(acc, acc + 4, state.RGBA);
     if (Preintegrated)
     {
-      this->PreviousScalar[p] = previousScalar;
-      this->PreviousT[p] = previousT;
-      this->PendingScalar[p] = pendingScalar;
-      this->PendingShade[2 * p] = pendingShade[0];
-      this->PendingShade[2 * p + 1] = pendingShade[1];
+      state.PreviousScalar = previousScalar;
+      state.PreviousT = previousT;
+      state.PendingScalar = pendingScalar;
+      state.PendingShade[0] = pendingShade[0];
+      state.PendingShade[1] = pendingShade[1];
     }
     return opaque;
   }
@@ -1502,12 +1530,6 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     leafLevel = I.AutomaticLeafLevel();
   }
   I.LeafLevel = std::min(leafLevel, this->Octree->GetNumberOfLevels());
-  std::vector<float> previousScalar(static_cast<size_t>(I.Width) * I.Height, 0.0f);
-  std::vector<double> previousT(
-    static_cast<size_t>(I.Width) * I.Height, std::numeric_limits<double>::quiet_NaN());
-  std::vector<float> pendingScalar(I.Preintegrated ? static_cast<size_t>(I.Width) * I.Height : 0,
-    std::numeric_limits<float>::quiet_NaN());
-  std::vector<float> pendingShade(2 * pendingScalar.size());
   vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
   float* image = rgba->GetPointer(0);
   vtkSMPTools::For(0,
@@ -1517,10 +1539,6 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     {
       TileWalker walker(I, this->Octree);
       walker.Image = image;
-      walker.PreviousScalar = previousScalar.data();
-      walker.PreviousT = previousT.data();
-      walker.PendingScalar = I.Preintegrated ? pendingScalar.data() : nullptr;
-      walker.PendingShade = pendingShade.data();
       for (vtkIdType t = t0; t < t1; ++t)
       {
         const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);
