@@ -118,7 +118,7 @@ public:
   ///@{
   /**
    * How samples are classified (see the class description). Pre-integration costs a 2D table
-   * (256^2 to 1024^2 entries, 1 to 16 MiB) rebuilt when the transfer function or the step
+   * (256^2 to 512^2 entries, 1 to 4 MiB) rebuilt when the transfer function or the step
    * changes, and is far more accurate for narrow transfer-function features. Initial value
    * is PREINTEGRATED.
    */
