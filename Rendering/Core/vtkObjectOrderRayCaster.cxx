@@ -899,9 +899,9 @@ public:
 
   // Section 3 at the scale of a leaf of the octree (2^LeafLevel cells per edge, fewer at the
   // far faces), while its voxels are in cache: every pixel ray through the leaf is sampled at
-  // its global sample positions inside the leaf's segment [tin, tout). A sample takes the 8
-  // corners of the cell it falls in, loaded when the ray reaches the cell; a cell whose corner
-  // range is transparent (or that has a NaN corner) takes no sample. Leaves of one cell are
+  // its global sample positions inside the leaf's segment [tin, tout). A sample interpolates
+  // the 8 corners of the cell it falls in; a cell whose corner range is transparent (or that
+  // has a NaN corner) takes no sample. Leaves of one cell are
   // the paper's per-cell rendering.
   template <bool Preintegrated, int Shading>
   void Leaf(int level, const int index[3], const int rect[4])
@@ -1017,9 +1017,9 @@ public:
   // The part [tin, tout) of a pixel's ray (its state) in the leaf at lo, from its sample
   // phase + n step on; entry: the ray at tin, leaf-local (its direction is Direction). Each
   // sample position finds its cell from its leaf-local coordinates (cells), in the leaf's
-  // small float coordinates, and is taken when that cell is visible; the corners are loaded
-  // when the cell changes. (Measured against a walk cell by cell: no branch per cell crossed,
-  // whose outcome the branch predictor misses often, and fewer instructions on small cells.)
+  // small float coordinates, and is taken when that cell is visible. (Measured against a walk
+  // cell by cell: no branch per cell crossed, whose outcome the branch predictor misses often,
+  // and fewer instructions on small cells.)
   // The ray's state is held in locals meanwhile. Specialized for the classification and the
   // shading, so the loop holds only the code the scene needs. True when the pixel became
   // opaque.
