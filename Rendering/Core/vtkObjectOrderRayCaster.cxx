@@ -1506,8 +1506,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     this->SegmentTable->SetVolumeProperty(this->VolumeProperty);
     this->SegmentTable->SetSegmentLength(this->SampleDistance);
     this->SegmentTable->SetScalarRange(range);
-    // At most 512^2 entries (4 MiB): 1024^2 (16 MiB) gave the same RMSE on the bench's volumes
-    // (ml256, headsq, neghip semi-transparent) but missed the caches, 6% slower on headsq.
+    // At most 512^2 entries (4 MiB): on headsq-semi, the bench's one table above that,
+    // 1024^2 (16 MiB) gave the same RMSE but missed the caches (6% slower per frame).
     this->SegmentTable->SetTableSize(vtkPreIntegrationTable::SuggestTableSize(
       scalars->GetDataType(), range, this->Sampler, 256, 512, 8.0)); // prepared by PrepareFrame
     if (!this->SegmentTable->Update())

@@ -19,8 +19,8 @@
  *     (copied once into a small array): every pixel ray through it (section 3.1: the pixels
  *     of the leaf's projected rectangle, an exact slab test for each ray's segment in the
  *     leaf) is sampled where a sample position falls in a cell whose corner range is not
- *     transparent, from the corners loaded when the ray reaches the cell; transparent cells
- *     take no sample. Samples lie at t = phase + k SampleDistance along each ray, t the world
+ *     transparent, interpolating that cell's 8 corners; transparent cells take no
+ *     sample. Samples lie at t = phase + k SampleDistance along each ray, t the world
  *     distance from the camera plane, and belong to the leaf and the cell where t falls
  *     (section 3.2's depth indicator, kept as the exact t); with InterleavedSampling the
  *     phase is SampleDistance / 2 on every other pixel in a checkerboard (section 3.3),
