@@ -215,7 +215,7 @@ float hovr_interiorExtremum(vec4 k)
 // beat both end points and beyond, the value the caller needs to beat. Only the one critical
 // point of the right kind is computed, and the cubic itself is evaluated there: on llvmpipe a
 // branch costs its instructions whether or not a fragment takes it, so this rarely taken one
-// is kept short (a third of a MIP frame with both critical points and trilinear samples).
+// is kept short (both critical points and trilinear samples there took 30% of a MIP frame).
 float hovr_segmentExtremum(vec3 ua, vec3 ub, float beyond)
 {
   vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),
@@ -450,7 +450,8 @@ bool hovr_walkBlocks(vec3 pIn, float tOut, vec3 pOut, ivec3 skipBlock)
     vec3 px;
     float d = hovr_step(iNext, HOVR_BLOCK, tOut, pOut, crossed, leaving, px);
     ivec3 block = hovr_boxBefore(iNext, blocks);
-    done = block != skipBlock && hovr_mayHold(hovr_texel(hovr_blockRange, hovr_blocksInvSize, block).rg) &&
+    vec2 range = hovr_texel(hovr_blockRange, hovr_blocksInvSize, block).rg;
+    done = block != skipBlock && hovr_mayHold(range) &&
       hovr_walkCells(pe, min(d, tOut), px, 3 * HOVR_BLOCK + 3);
     if (done || leaving)
     {
