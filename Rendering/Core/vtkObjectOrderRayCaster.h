@@ -16,9 +16,10 @@
  *     OpacityThreshold;
  *   - the octree's leaves are nodes of LeafSize^3 cells (1: the paper's single cells); each
  *     leaf that is neither transparent nor hidden is rendered while its points are in cache
- *     (copied once into a small array): every pixel ray through it (section 3.1: the pixels
- *     of the leaf's projected rectangle, an exact slab test for each ray's segment in the
- *     leaf) is sampled where a sample position falls in a cell whose corner range is not
+ *     (a leaf lies in one brick, below): every pixel ray through the box of its visible
+ *     cells (section 3.1: the pixels of the box's projected rectangle, an exact slab test for
+ *     each ray's segment in the leaf, clipped to the box) is sampled where a sample position
+ *     falls in a cell whose corner range is not
  *     transparent, interpolating that cell's 8 corners; transparent cells take no
  *     sample. Samples lie at t = phase + k SampleDistance along each ray, t the world
  *     distance from the camera plane, and belong to the leaf and the cell where t falls
