@@ -50,8 +50,7 @@ constexpr int BrickCells = 8;
 constexpr int BrickPoints = BrickCells + 1;
 constexpr int BrickValues = BrickPoints * BrickPoints * BrickPoints;
 constexpr int BrickWords = BrickCells * BrickCells * BrickCells / 64; // a bit per cell
-constexpr int MaxLeafLevel = 3;    // leaves of at most 8^3 cells: inside one brick
-constexpr double LeafPixels = 8.0; // automatic leaves project to at least this many pixels
+constexpr int MaxLeafLevel = 3; // leaves of at most 8^3 cells: inside one brick
 }
 
 namespace
@@ -351,23 +350,6 @@ public:
   {
     shade = nl < 0.0 ? this->Ambient : this->Ambient + this->Diffuse * static_cast<float>(nl);
     highlight = nl > 0.0 ? this->Specular * static_cast<float>(std::pow(nl, this->Power)) : 0.0f;
-  }
-
-  // The leaf level for this view: the smallest whose leaves project to at least
-  // LeafPixels pixels across (a cell's projected extent from the rows of Inverse), so that
-  // the rays through a leaf pay for its traversal and screen tests.
-  int AutomaticLeafLevel() const
-  {
-    const double cellPixels = std::max(
-      std::abs(this->Inverse[0][0]) + std::abs(this->Inverse[0][1]) + std::abs(this->Inverse[0][2]),
-      std::abs(this->Inverse[1][0]) + std::abs(this->Inverse[1][1]) +
-        std::abs(this->Inverse[1][2]));
-    int level = 0;
-    while (level < MaxLeafLevel && (cellPixels * (1 << level)) < LeafPixels)
-    {
-      ++level;
-    }
-    return level;
   }
 
   // Whether the opacity can be non-zero somewhere in [lo, hi] (conservative: whole bins).
@@ -1624,18 +1606,11 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   // Tiles in parallel; each pixel is written by its tile only.
   const int tile = this->TileSize;
   const int tilesX = (I.Width + tile - 1) / tile, tilesY = (I.Height + tile - 1) / tile;
-  // Leaves: LeafSize, or from the projected size of a cell (see the header).
+  // Leaves of LeafSize cells, rounded down to a power of two.
   int leafLevel = 0;
-  if (this->LeafSize > 0)
+  while (leafLevel < MaxLeafLevel && (2 << leafLevel) <= this->LeafSize)
   {
-    while (leafLevel < MaxLeafLevel && (2 << leafLevel) <= this->LeafSize)
-    {
-      ++leafLevel;
-    }
-  }
-  else
-  {
-    leafLevel = I.AutomaticLeafLevel();
+    ++leafLevel;
   }
   I.LeafLevel = std::min(leafLevel, this->Octree->GetNumberOfLevels());
   vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
