@@ -46,6 +46,10 @@ c.check(computed[:, 3].max() > 0.3 and difference < 1e-6,
         "the window shows the caster's image (difference %.1e)" % difference)
 c.check(drawn.samples_per_frame > 0 and drawn.extra["nontransparent_cells"] > 0,
         "the mapper reports the caster's counters")
+# Rays stopped at their first opacity render no more cells than rays stopped when opaque.
+c.check(drawn.extra["occluded_ratio_first_hit"] >= drawn.extra["occluded_ratio"] > 0.0,
+        "the first-hit occluded ratio bounds the occluded ratio (%.3f >= %.3f)"
+        % (drawn.extra["occluded_ratio_first_hit"], drawn.extra["occluded_ratio"]))
 
 # Moving the volume by its matrix and the camera alike changes nothing.
 moved = hio.default_camera(scene.image.GetBounds(), parallel=True)
