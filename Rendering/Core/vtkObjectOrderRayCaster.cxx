@@ -1085,6 +1085,32 @@ public:
     return std::min(std::max((s - this->S0) * this->InvStep, 0.0f), this->LastEntry);
   }
 
+  // A piece of ray of one step, point-sampled at scalar s: PointPiece for that length, in
+  // float (without the length's ratio to the step and its tests).
+  void StepPiece(float s, float piece[4]) const
+  {
+    const float e = this->Entry(s);
+    const int e0 = std::min(static_cast<int>(e), this->I.Entries - 2);
+    const float f = e - e0;
+    const float* a0 = this->I.Table.data() + 4 * e0;
+#ifdef HOVR_SSE2
+    const __m128 low = _mm_loadu_ps(a0), high = _mm_loadu_ps(a0 + 4);
+    const __m128 v = _mm_add_ps(low, _mm_mul_ps(_mm_set1_ps(f), _mm_sub_ps(high, low)));
+    // The colour times the alpha, the alpha kept: v (alpha, alpha, alpha, 1).
+    const __m128 alphaOne =
+      _mm_move_ss(_mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3)), _mm_set_ss(1.0f));
+    _mm_storeu_ps(
+      piece, _mm_mul_ps(v, _mm_shuffle_ps(alphaOne, alphaOne, _MM_SHUFFLE(0, 1, 1, 1))));
+#else
+    const float alpha = a0[3] + f * (a0[7] - a0[3]);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      piece[ch] = (a0[ch] + f * (a0[ch + 4] - a0[ch])) * alpha;
+    }
+    piece[3] = alpha;
+#endif
+  }
+
   // A piece of ray of length `length`, point-sampled at scalar s.
   void ScalarPiece(float s, double length, float piece[4]) const
   {
@@ -1225,9 +1251,16 @@ public:
         // neighbours, the first one from the box entry on and the last one up to the exit
         // (midpoint rule with the ends included), so no part of the chord is left out or
         // counted twice whatever the phase.
-        const double from = t - step < te ? te : t - 0.5 * step;
-        const double to = last ? tx : t + 0.5 * step;
-        this->ScalarPiece(s, to - from, piece);
+        if (!(t - step < te) && !last)
+        {
+          this->StepPiece(s, piece); // a whole step around the sample, as most are
+        }
+        else
+        {
+          const double from = t - step < te ? te : t - 0.5 * step;
+          const double to = last ? tx : t + 0.5 * step;
+          this->ScalarPiece(s, to - from, piece);
+        }
         opaque = Composite<Shading>(acc, piece, shade, highlight, threshold);
       }
     }
