@@ -433,8 +433,18 @@ int HighestBit(uint64_t word)
 #endif
 }
 
+// Inlined whatever the compiler's size heuristics say: the sample loop is one large function
+// in which GCC otherwise calls the trilinear interpolation out of line at every sample.
+#if defined(__GNUC__) || defined(__clang__)
+#define HOVR_ALWAYS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define HOVR_ALWAYS_INLINE __forceinline
+#else
+#define HOVR_ALWAYS_INLINE inline
+#endif
+
 // Trilinear interpolation of 8 corner values (x + 2 y + 4 z) at local coordinates u.
-float Trilinear(const float v[8], const float u[3])
+HOVR_ALWAYS_INLINE float Trilinear(const float v[8], const float u[3])
 {
   const float x0 = v[0] + u[0] * (v[1] - v[0]);
   const float x1 = v[2] + u[0] * (v[3] - v[2]);
