@@ -618,10 +618,6 @@ struct LeafView
     this->Points = I.Bricks.data() + this->Brick * BrickValues + local[0] +
       BrickPoints * (local[1] + BrickPoints * local[2]);
     this->FirstCell = local[0] + BrickCells * (local[1] + BrickCells * local[2]);
-  }
-
-  void Load(const Frame& I)
-  {
     I.BrickVisibility(this->Brick, this->BrickCoordinates, this->Visible);
   }
 
@@ -969,7 +965,7 @@ public:
   // has a NaN corner) takes no sample. Leaves of one cell are
   // the paper's per-cell rendering.
   template <bool Preintegrated, int Shading>
-  void Leaf(int level, const int index[3], const int* rect)
+  void Leaf(int level, const int index[3], const int leafRect[4])
   {
     const auto& I = this->I;
     int lo[3], size[3];
@@ -984,7 +980,6 @@ public:
     // since the positions outside it fall in transparent cells (measured on headsq-semi:
     // 28% fewer positions, 22% fewer pixels tested, 7% less time per frame).
     LeafView leaf(I, lo);
-    leaf.Load(I);
     int first[3], last[3];
     if (!leaf.VisibleBox(size, first, last))
     {
@@ -1004,17 +999,16 @@ public:
       nearPlane[a] = I.D[a] > 0.0 ? boxLo[a] : boxHi[a];
       farPlane[a] = I.D[a] > 0.0 ? boxHi[a] : boxLo[a];
     }
-    int box[4]; // the box's pixels, within the leaf's
-    if (!I.Rectangle(boxLo, boxHi, rect, box) ||
+    int rect[4]; // the box's pixels, within the leaf's
+    if (!I.Rectangle(boxLo, boxHi, leafRect, rect) ||
       (this->Removal &&
-        this->Occlusion.IsRectangleOpaque(box[0] - this->Clip[0],
-          box[2] - this->Clip[2],
-          box[1] - this->Clip[0],
-          box[3] - this->Clip[2])))
+        this->Occlusion.IsRectangleOpaque(rect[0] - this->Clip[0],
+          rect[2] - this->Clip[2],
+          rect[1] - this->Clip[0],
+          rect[3] - this->Clip[2])))
     {
       return;
     }
-    rect = box;
     const LeafCells cells(this->Direction, size);
     const double step = I.Step;
     const double perStep = 1.0 / step; // a product per pixel instead of a division
@@ -1261,13 +1255,14 @@ public:
         // neighbours, the first one from the box entry on and the last one up to the exit
         // (midpoint rule with the ends included), so no part of the chord is left out or
         // counted twice whatever the phase.
-        if (!(t - step < te) && !last)
+        const bool first = t - step < te; // the first sample of the chord
+        if (!first && !last)
         {
           this->StepPiece(s, piece); // a whole step around the sample, as most are
         }
         else
         {
-          const double from = t - step < te ? te : t - 0.5 * step;
+          const double from = first ? te : t - 0.5 * step;
           const double to = last ? tx : t + 0.5 * step;
           this->ScalarPiece(s, to - from, piece);
         }
