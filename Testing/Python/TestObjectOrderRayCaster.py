@@ -141,6 +141,31 @@ images["no hidden volume removal"] = pixels(caster(ml, prop, camera, 0.025,
                                                    HiddenVolumeRemoval=False))
 for label, image in images.items():
     c.check(numpy.array_equal(image, images["default"]), "%s: the same image" % label)
+# Both compiled copies of the sample loop: each gives the same image on 1 and 2 threads, and
+# the AVX2 one (fused multiply-adds) differs from the SSE2 one by float rounding only.
+loops = {}
+for name, setting in (("SSE2", hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_SSE2),
+                      ("AVX2", hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_AVX2)):
+    runs = []
+    for threads in (1, 2):
+        vtkSMPTools.Initialize(threads)
+        runs.append(caster(ml, prop, camera, 0.025, InstructionSet=setting))
+    vtkSMPTools.Initialize(0)
+    if runs[0].GetLastInstructionSet() != setting:
+        c.check(name == "AVX2" and runs[0].messages.warnings,
+                "%s asked for: %s ran, with a warning" % (name, runs[0].GetLastInstructionSet()))
+        print("AVX2 asked for on a processor or build without it: the SSE2 loop ran (warned)")
+        continue
+    c.check(numpy.array_equal(pixels(runs[0]), pixels(runs[1])),
+            "%s loop: the same image on 1 and 2 threads" % name)
+    loops[setting] = pixels(runs[0])
+if len(loops) == 2:
+    difference = numpy.abs(loops[hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_SSE2] -
+                           loops[hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_AVX2]).max()
+    print("AVX2 against SSE2 loop: max difference %.1e" % difference)
+    c.check(difference < 1e-4, "AVX2 and SSE2 loops: the same image to float rounding (%.1e)"
+            % difference)
+c.check(base.GetLastInstructionSet() in loops, "the automatic choice ran a tested loop")
 # Leaves of any size sample the same points in the same cells: the same image to float
 # rounding (leaf-local coordinates), the same samples and cells sampled.
 for leaf in (1, 2, 4, 8):

@@ -70,7 +70,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "depth_max_error_not_grazing", "depth_outliers_not_grazing",
               "extremum_max_error", "extremum_mean_error",
               "nontransparent_cells", "occluded_ratio", "occluded_ratio_first_hit", "octree_nodes",
-              "cpu_bytes"]
+              "cpu_bytes", "instruction_set"]
 
 # Part of the reference cache key: bump when the reference's output changes.
 REFERENCE_VERSION = 2

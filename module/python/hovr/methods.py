@@ -239,7 +239,10 @@ class ObjectOrderMethod(Method):
                  "nontransparent_cells": rendered,
                  "occluded_ratio": 1.0 - rendered / in_view if in_view > 0 else 0.0,
                  "octree_nodes": caster.GetNumberOfNodesVisited(),
-                 "cpu_bytes": caster.GetMemorySize()}
+                 "cpu_bytes": caster.GetMemorySize(),
+                 "instruction_set": {caster.INSTRUCTIONS_SSE2: "sse2",
+                                     caster.INSTRUCTIONS_AVX2: "avx2"}.get(
+                     caster.GetLastInstructionSet(), "")}
         # The same frame with every ray stopped at its first non-negligible opacity (the
         # smallest threshold, 1e-3): the cells seen first along the rays must be rendered by
         # any method, so this bounds the occluded ratio for the scene's geometry.
