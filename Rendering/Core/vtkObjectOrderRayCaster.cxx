@@ -109,8 +109,9 @@ public:
   const float* Segments = nullptr;
   int SegmentEntries = 0;
   double SegmentInvStep = 1.0;
-  // Per pixel: where its ray enters and leaves the grid's box (t), empty when it misses.
-  std::vector<double> Chords;
+  // The pixels whose rays can meet the grid's box (empty: x0 > x1); the tiles outside it
+  // keep the output's zeros.
+  int VolumePixels[4] = { 0, -1, 0, -1 };
   // Shading (0 none, 1 post, 2 pre). Gradients are taken in grid index units (central
   // differences) and turned into data-space normals by ToData (the transposed
   // physical-to-index matrix); Light is the headlight in data space.
@@ -308,6 +309,26 @@ public:
       hi = std::max(hi, c[n]);
     }
     return finite;
+  }
+
+  // Where pixel (i, j)'s ray enters and leaves the box of the points (t): te > tx, or tx < 0,
+  // when it misses.
+  void Chord(int i, int j, double& te, double& tx) const
+  {
+    te = 0.0;
+    tx = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a)
+    {
+      const double o = this->O[a] + i * this->EX[a] + j * this->EY[a];
+      if (this->Still[a])
+      {
+        tx = (o >= 0.0 && o <= this->Cells[a]) ? tx : -1.0;
+        continue;
+      }
+      const double t1 = -o * this->InvD[a], t2 = (this->Cells[a] - o) * this->InvD[a];
+      te = std::max(te, std::min(t1, t2));
+      tx = std::min(tx, std::max(t1, t2));
+    }
   }
 
   // Central-difference gradient at point (x, y, z) in grid index units (one-sided at the
@@ -698,35 +719,18 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     columns[a][2] = I.D[a];
   }
   vtkMath::Invert3x3(columns, I.Inverse);
-  // Each pixel ray's chord through the box of the points.
-  I.Chords.assign(2 * static_cast<size_t>(I.Width) * I.Height, 0.0);
-  vtkSMPTools::For(0,
-    I.Height,
-    [&](vtkIdType j0, vtkIdType j1)
-    {
-      for (vtkIdType j = j0; j < j1; ++j)
-      {
-        for (int i = 0; i < I.Width; ++i)
-        {
-          double te = 0.0, tx = std::numeric_limits<double>::infinity();
-          for (int a = 0; a < 3; ++a)
-          {
-            const double o = I.O[a] + i * I.EX[a] + j * I.EY[a];
-            if (I.Still[a])
-            {
-              tx = (o >= 0.0 && o <= I.Cells[a]) ? tx : -1.0;
-              continue;
-            }
-            const double t1 = -o * I.InvD[a], t2 = (I.Cells[a] - o) * I.InvD[a];
-            te = std::max(te, std::min(t1, t2));
-            tx = std::min(tx, std::max(t1, t2));
-          }
-          const size_t p = static_cast<size_t>(i) + static_cast<size_t>(I.Width) * j;
-          I.Chords[2 * p] = te;
-          I.Chords[2 * p + 1] = tx;
-        }
-      }
-    });
+  // The pixels whose rays can meet the box of the points: the tiles outside them are left
+  // as the output was initialized (transparent), and each tile finds its own pixels' chords.
+  const double boxLo[3] = { 0.0, 0.0, 0.0 };
+  const double boxHi[3] = { static_cast<double>(I.Cells[0]),
+    static_cast<double>(I.Cells[1]),
+    static_cast<double>(I.Cells[2]) };
+  const int wholeImage[4] = { 0, I.Width - 1, 0, I.Height - 1 };
+  if (!I.Rectangle(boxLo, boxHi, wholeImage, I.VolumePixels))
+  {
+    std::fill(I.VolumePixels, I.VolumePixels + 4, 0);
+    I.VolumePixels[1] = I.VolumePixels[3] = -1;
+  }
   // Shading: the headlight (towards the camera) in data space, where normals are taken.
   I.Shading = this->VolumeProperty->GetShade(0) ? (this->ShadingMode == PRE_SHADING ? 2 : 1) : 0;
   if (I.Shading)
@@ -850,7 +854,11 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
             std::min((tx + 1) * tile, I.Width) - 1,
             ty * tile,
             std::min((ty + 1) * tile, I.Height) - 1 };
-          walker.Walk(clip);
+          if (clip[1] >= I.VolumePixels[0] && clip[0] <= I.VolumePixels[1] &&
+            clip[3] >= I.VolumePixels[2] && clip[2] <= I.VolumePixels[3])
+          {
+            walker.Walk(clip);
+          }
         }
         nodes.Local() += walker.Nodes;
         samples.Local() += walker.Samples;

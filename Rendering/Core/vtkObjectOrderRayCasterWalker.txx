@@ -219,7 +219,7 @@ struct LeafView
   }
 };
 
-// A pixel's ray between leaves: its chord through the volume (Frame::Chords), its
+// A pixel's ray between leaves: its chord through the volume (Frame::Chord), its
 // premultiplied RGBA so far and, for pre-integration, its last sample (scalar, t: NaN when
 // none) and the trailing half step that sample may still owe (its scalar, NaN when nothing
 // is owed, and its shading: factor, highlight).
@@ -382,14 +382,11 @@ public:
       this->Pixels.assign(static_cast<size_t>(this->TileWidth) * (clip[3] - clip[2] + 1), {});
       for (int py = clip[2]; py <= clip[3]; ++py)
       {
-        const double* chords =
-          this->I.Chords.data() + 2 * (clip[0] + static_cast<size_t>(this->I.Width) * py);
         for (int lx = 0; lx < this->TileWidth; ++lx)
         {
           PixelState& state =
             this->Pixels[lx + static_cast<size_t>(this->TileWidth) * (py - clip[2])];
-          state.Chord[0] = chords[2 * lx];
-          state.Chord[1] = chords[2 * lx + 1];
+          this->I.Chord(clip[0] + lx, py, state.Chord[0], state.Chord[1]);
         }
       }
     }
