@@ -19,13 +19,12 @@
  *     (a leaf lies in one brick, below): every pixel ray through the box of its visible
  *     cells (section 3.1: the pixels of the box's projected rectangle, an exact slab test for
  *     each ray's segment in the leaf, clipped to the box) is sampled where a sample position
- *     falls in a cell whose corner range is not
- *     transparent, interpolating that cell's 8 corners; transparent cells take no
- *     sample. Samples lie at t = phase + k SampleDistance along each ray, t the world
- *     distance from the camera plane, and belong to the leaf and the cell where t falls
- *     (section 3.2's depth indicator, kept as the exact t); with InterleavedSampling the
- *     phase is SampleDistance / 2 on every other pixel in a checkerboard (section 3.3),
- *     trading staircase artifacts for noise;
+ *     falls in a cell whose corner range is not transparent, interpolating that cell's 8
+ *     corners; transparent cells take no sample. Samples lie at t = phase + k SampleDistance
+ *     along each ray, t the world distance from the camera plane, and belong to the leaf and
+ *     the cell where t falls (section 3.2's depth indicator, kept as the exact t); with
+ *     InterleavedSampling the phase is SampleDistance / 2 on every other pixel in a
+ *     checkerboard (section 3.3), trading staircase artifacts for noise;
  *   - classification after interpolation, chosen by Classification: PREINTEGRATED (default)
  *     composites the segment between consecutive samples of a ray from the first-order
  *     pre-integration table (vtkFirstOrderPreIntegrationTable, Engel et al.; the ray's ends

@@ -234,10 +234,14 @@ class ObjectOrderMethod(Method):
     def statistics(self, mapper):
         caster = mapper.GetCaster()
         in_view = caster.ComputeNonTransparentCells()
+
+        def occluded(rendered):
+            return 1.0 - rendered / in_view if in_view > 0 else 0.0
+
         rendered = caster.GetNumberOfNonTransparentCells()
         stats = {"samples_per_frame": caster.GetNumberOfSamples(),
                  "nontransparent_cells": rendered,
-                 "occluded_ratio": 1.0 - rendered / in_view if in_view > 0 else 0.0,
+                 "occluded_ratio": occluded(rendered),
                  "octree_nodes": caster.GetNumberOfNodesVisited(),
                  "cpu_bytes": caster.GetMemorySize(),
                  "instruction_set": {caster.INSTRUCTIONS_SSE2: "sse2",
@@ -245,14 +249,13 @@ class ObjectOrderMethod(Method):
                      caster.GetLastInstructionSet(), "")}
         # The same frame with every ray stopped at its first non-negligible opacity (the
         # smallest threshold, 1e-3): the cells seen first along the rays must be rendered by
-        # any method, so this bounds the occluded ratio for the scene's geometry.
+        # any method, so this bounds the occluded ratio for the scene's geometry. Restoring
+        # the threshold marks the caster modified: the mapper's next frame renders anew.
         threshold = caster.GetOpacityThreshold()
         caster.SetOpacityThreshold(1e-3)
         caster.Update()
-        first = caster.GetNumberOfNonTransparentCells()
+        stats["occluded_ratio_first_hit"] = occluded(caster.GetNumberOfNonTransparentCells())
         caster.SetOpacityThreshold(threshold)
-        caster.Update()
-        stats["occluded_ratio_first_hit"] = 1.0 - first / in_view if in_view > 0 else 0.0
         return stats
 
 
