@@ -5,6 +5,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkObjectOrderRayCaster.h"
 #include "vtkObjectOrderVolumeMapper.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
@@ -28,7 +29,16 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   this->VolumeMapper = mapper;
   this->PreIntegrationMapper = mapper;
   this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
-  this->ObjectOrderMapper = vtkSmartPointer<vtkObjectOrderVolumeMapper>::New();
+  auto cpuMapper = vtkSmartPointer<vtkObjectOrderVolumeMapper>::New();
+  vtkObjectOrderRayCaster* caster = cpuMapper->GetCaster();
+  this->ObjectOrderClassification = caster->GetClassification();
+  this->ObjectOrderShading = caster->GetShadingMode();
+  this->InterleavedSampling = caster->GetInterleavedSampling();
+  this->HiddenVolumeRemoval = caster->GetHiddenVolumeRemoval();
+  this->OpacityThreshold = caster->GetOpacityThreshold();
+  this->LeafSize = caster->GetLeafSize();
+  this->InstructionSet = caster->GetInstructionSet();
+  this->ObjectOrderMapper = cpuMapper;
 }
 
 //------------------------------------------------------------------------------
@@ -96,6 +106,17 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
     mapper->SetIterations(this->Iterations);
     mapper->SetTablePrefilter(this->TablePrefilter);
   }
+  else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
+  {
+    vtkObjectOrderRayCaster* caster = objectOrder->GetCaster();
+    caster->SetClassification(this->ObjectOrderClassification);
+    caster->SetShadingMode(this->ObjectOrderShading);
+    caster->SetInterleavedSampling(this->InterleavedSampling);
+    caster->SetHiddenVolumeRemoval(this->HiddenVolumeRemoval);
+    caster->SetOpacityThreshold(this->OpacityThreshold);
+    caster->SetLeafSize(this->LeafSize);
+    caster->SetInstructionSet(this->InstructionSet);
+  }
   else if (auto* analyticMapper = vtkAnalyticVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
     analyticMapper->SetAutoAdjustSampleDistances(0);
@@ -160,5 +181,12 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "TablePrefilter: " << (this->TablePrefilter ? "On" : "Off") << "\n";
+  os << indent << "ObjectOrderClassification: " << this->ObjectOrderClassification << "\n";
+  os << indent << "ObjectOrderShading: " << this->ObjectOrderShading << "\n";
+  os << indent << "InterleavedSampling: " << (this->InterleavedSampling ? "On" : "Off") << "\n";
+  os << indent << "HiddenVolumeRemoval: " << (this->HiddenVolumeRemoval ? "On" : "Off") << "\n";
+  os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "LeafSize: " << this->LeafSize << "\n";
+  os << indent << "InstructionSet: " << this->InstructionSet << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
 }

@@ -114,6 +114,34 @@ public:
 
   ///@{
   /**
+   * Settings of the object-order CPU ray caster (OBJECT_ORDER), passed on unchanged to its
+   * vtkObjectOrderRayCaster, which documents and clamps them: ObjectOrderClassification
+   * (vtkObjectOrderRayCaster::Classifications, initial value PREINTEGRATED),
+   * ObjectOrderShading (ShadingModes, used when Shade is on; initial value POST_SHADING),
+   * InterleavedSampling (initial value true), HiddenVolumeRemoval (initial value true; the
+   * image is the same either way), OpacityThreshold (early ray termination, initial value
+   * 0.999), LeafSize (cells per edge of the octree's leaves, initial value 8) and
+   * InstructionSet (the compiled copy of the sample loop, InstructionSets, initial value
+   * INSTRUCTIONS_AUTOMATIC). The initial values are the caster's own.
+   */
+  vtkSetMacro(ObjectOrderClassification, int);
+  vtkGetMacro(ObjectOrderClassification, int);
+  vtkSetMacro(ObjectOrderShading, int);
+  vtkGetMacro(ObjectOrderShading, int);
+  vtkSetMacro(InterleavedSampling, bool);
+  vtkGetMacro(InterleavedSampling, bool);
+  vtkSetMacro(HiddenVolumeRemoval, bool);
+  vtkGetMacro(HiddenVolumeRemoval, bool);
+  vtkSetMacro(OpacityThreshold, double);
+  vtkGetMacro(OpacityThreshold, double);
+  vtkSetMacro(LeafSize, int);
+  vtkGetMacro(LeafSize, int);
+  vtkSetMacro(InstructionSet, int);
+  vtkGetMacro(InstructionSet, int);
+  ///@}
+
+  ///@{
+  /**
    * Blend mode and cropping flag, kept here and given to whichever mapper draws (the
    * superclass sets them on its current mapper only). The analytic modes override the blend
    * mode with theirs. Initial values: composite, off.
@@ -151,6 +179,13 @@ protected:
   int TablePrecision;
   int Iterations;
   bool TablePrefilter;
+  int ObjectOrderClassification;
+  int ObjectOrderShading;
+  bool InterleavedSampling;
+  bool HiddenVolumeRemoval;
+  double OpacityThreshold;
+  int LeafSize;
+  int InstructionSet;
   double EffectiveSampleDistance = 0.0;
 
 private:

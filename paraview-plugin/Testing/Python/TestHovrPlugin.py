@@ -125,6 +125,13 @@ def expected_table_bytes(size, dimensions, precision):
     return size ** dimensions * 4 * PRECISION_BYTES[precision] + (size - 1) * 4
 
 
+# The object-order caster's settings, in the order of their defaults' check.
+CPU_PROPERTIES = ("HovrCPUClassification", "HovrCPUShading", "HovrInterleavedSampling",
+                  "HovrHiddenVolumeRemoval", "HovrOpacityThreshold", "HovrLeafSize",
+                  "HovrInstructionSet")
+CPU_DEFAULTS = ("Pre-integrated", "Post-shading", 1, 1, 0.999, 8, "Automatic")
+
+
 def mapper_setting(mapper, name):
     """An integer setting printed by the mapper's PrintSelf ("Name: value"), or None: hovr's
     getters are not Python-wrapped in the plugin build."""
@@ -190,7 +197,7 @@ def main():
 
     properties = display.ListProperties()
     for name in ("HovrIntegration", "HovrSampleDistance", "HovrTableSize", "HovrTablePrecision",
-                 "HovrIterations", "HovrTablePrefilter"):
+                 "HovrIterations", "HovrTablePrefilter") + CPU_PROPERTIES:
         checker.check(name in properties, "the representation exposes %s" % name)
     checker.check("HovrHalfFloatTable" not in properties,
                   "HovrHalfFloatTable is gone (replaced by HovrTablePrecision)")
@@ -213,6 +220,9 @@ def main():
                   "Iterations defaults to 64 (%s)" % display.HovrIterations)
     checker.check(display.HovrTablePrefilter == 1,
                   "Table Prefilter defaults to on (%s)" % display.HovrTablePrefilter)
+    cpu_defaults = [display.GetPropertyValue(name) for name in CPU_PROPERTIES]
+    checker.check(cpu_defaults == list(CPU_DEFAULTS),
+                  "the object-order settings default to the caster's (%s)" % cpu_defaults)
 
     # A narrow opacity peak around 0.5: a thin shell that sampling once per cell misses or
     # aliases, while first-order pre-integration catches it between samples.
@@ -412,6 +422,37 @@ def main():
                       mapper_setting(cpu_mapper, "LastFrameFellBack") == 0 and
                       mapper_setting(cpu_mapper, "NumberOfSamples") > 0,
                       "Object-order draws with vtkObjectOrderVolumeMapper, no fallback")
+    # Its settings reach the caster; hidden volume removal leaves the image as it is, and
+    # point-sampled classification changes it (the narrow peak).
+    display.HovrHiddenVolumeRemoval = 0
+    no_removal = capture(view, os.path.join(args.output_dir,
+                                            "TestHovrPlugin-objectorder-noremoval.png"))
+    checker.check(image_difference(cpu, no_removal) == 0.0,
+                  "object-order draws the same image without hidden volume removal")
+    display.HovrCPUClassification = "Point-sampled"
+    display.HovrCPUShading = "Pre-shading"
+    display.HovrInterleavedSampling = 0
+    display.HovrOpacityThreshold = 0.99
+    display.HovrLeafSize = 4
+    display.HovrInstructionSet = "SSE2"
+    point = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-objectorder-point.png"))
+    checker.check(image_difference(cpu, point) > 0.0,
+                  "point-sampled classification draws another image than pre-integration")
+    if drawing_mapper_here:
+        caster_settings = {name: mapper_setting(cpu_mapper, name) for name in (
+            "Classification", "ShadingMode", "InterleavedSampling", "HiddenVolumeRemoval",
+            "LeafSize", "InstructionSet", "LastInstructionSet")}
+        checker.check(caster_settings == {"Classification": 0, "ShadingMode": 1,
+                                          "InterleavedSampling": 0, "HiddenVolumeRemoval": 0,
+                                          "LeafSize": 4, "InstructionSet": 1,
+                                          "LastInstructionSet": 1},
+                      "the object-order settings reach the caster (%s)" % caster_settings)
+        threshold = re.search(r"^\s*OpacityThreshold: (\S+)$", str(cpu_mapper), re.MULTILINE)
+        checker.check(threshold is not None and float(threshold.group(1)) == 0.99,
+                      "the opacity threshold reaches the caster (%s)"
+                      % (threshold.group(1) if threshold else None))
+    for name, value in zip(CPU_PROPERTIES, CPU_DEFAULTS):
+        display.SetPropertyWithName(name, value)
     view.CameraParallelProjection = 0
 
     display.HovrIntegration = "First-order pre-integration"
