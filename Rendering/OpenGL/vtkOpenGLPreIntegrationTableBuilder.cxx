@@ -19,6 +19,7 @@
 #include "hovrPreIntegration2Build.h" // the fragment shader of one table slice
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 vtkStandardNewMacro(vtkOpenGLPreIntegrationTableBuilder);
@@ -79,8 +80,11 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
   }
   if (internalFormat != GL_RGBA8 && internalFormat != GL_RGBA16F && internalFormat != GL_RGBA32F)
   {
-    vtkErrorMacro("Unsupported internal format 0x" << std::hex << internalFormat << std::dec
-                                                   << "; use GL_RGBA8, GL_RGBA16F or GL_RGBA32F.");
+    // (vtkErrorMacro's stream takes no manipulators such as std::hex: the hex digits first.)
+    char format[16];
+    std::snprintf(format, sizeof(format), "0x%04X", internalFormat);
+    vtkErrorMacro(
+      "Unsupported internal format " << format << "; use GL_RGBA8, GL_RGBA16F or GL_RGBA32F.");
     return false;
   }
   const int n = table->GetTableSize();

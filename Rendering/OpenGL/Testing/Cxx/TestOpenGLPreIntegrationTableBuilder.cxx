@@ -426,7 +426,7 @@ int TestOpenGLPreIntegrationTableBuilder(int, char*[])
     check(!builder->Build(nullptr, table, texture, GL_RGBA32F), "no window: fails");
     hovrTest::ExpectError(check, errors, "needs a render window", "no window");
     check(!builder->Build(window, table, texture, GL_RGB8), "GL_RGB8: fails");
-    hovrTest::ExpectError(check, errors, "Unsupported internal format", "GL_RGB8");
+    hovrTest::ExpectError(check, errors, "Unsupported internal format 0x8051;", "GL_RGB8");
     table->SetTableSize(24); // not updated since
     check(!builder->Build(window, table, texture, GL_RGBA32F), "stale table: fails");
     hovrTest::ExpectError(check, errors, "call Update()", "stale table");
