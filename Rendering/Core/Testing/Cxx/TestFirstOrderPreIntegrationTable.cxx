@@ -27,13 +27,6 @@ constexpr double FloatTolerance = 1.2e-7;
 
 hovrTest::Checker check;
 
-std::string Where(const char* what, int i, int j)
-{
-  std::ostringstream os;
-  os << what << " at entry (front " << i << ", back " << j << ")";
-  return os.str();
-}
-
 // Scalar of table entry i, as documented: entry 0 at range[0], entry N - 1 at range[1].
 double EntryScalar(vtkPreIntegrationTable* table, int i)
 {
