@@ -222,7 +222,8 @@ def main():
                   "Table Prefilter defaults to on (%s)" % display.HovrTablePrefilter)
     cpu_defaults = [display.GetPropertyValue(name) for name in CPU_PROPERTIES]
     checker.check(cpu_defaults == list(CPU_DEFAULTS),
-                  "the object-order settings default to the caster's (%s)" % cpu_defaults)
+                  "the object-order settings default to the caster's documented initial "
+                  "values (%s)" % cpu_defaults)
 
     # A narrow opacity peak around 0.5: a thin shell that sampling once per cell misses or
     # aliases, while first-order pre-integration catches it between samples.
