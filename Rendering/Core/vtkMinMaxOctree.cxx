@@ -108,6 +108,13 @@ bool vtkMinMaxOctree::Build(vtkImageData* image)
 }
 
 //------------------------------------------------------------------------------
+void vtkMinMaxOctree::Initialize()
+{
+  std::vector<Level>().swap(this->Levels);
+  std::fill(this->Cells, this->Cells + 3, 0);
+}
+
+//------------------------------------------------------------------------------
 bool vtkMinMaxOctree::Build(vtkDataArray* scalars, const int dims[3])
 {
   this->Levels.clear();

@@ -39,9 +39,16 @@ public:
    * Build over single-component point scalars on a grid of dims points (x fastest).
    * Returns false and reports an error for a missing or multi-component array, a size that
    * does not match dims, or a grid with fewer than 2 points along an axis; the octree is then
-   * empty.
+   * empty. When its levels cannot be allocated, std::bad_alloc propagates, as from the
+   * standard containers that hold them (vtkObjectOrderRayCaster catches it and calls
+   * Initialize()).
    */
   bool Build(vtkDataArray* scalars, const int dims[3]);
+
+  /**
+   * Empty the octree and free its levels.
+   */
+  void Initialize();
 
   /**
    * Build over the point scalars of an image.

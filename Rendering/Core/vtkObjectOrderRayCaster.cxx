@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <new>
 #include <type_traits>
 #include <vector>
 
@@ -196,6 +197,24 @@ public:
     }
     this->VisibleVersion = 0;
     this->NewClassification();
+  }
+
+  // After an allocation failed: the copies of the volume freed (not just emptied), so that
+  // the memory goes back and the next update starts again from the scalars.
+  void ReleaseVolume()
+  {
+    std::vector<float>().swap(this->Bricks);
+    std::vector<uint16_t>().swap(this->Directions);
+    for (auto& address : this->AxisAddress)
+    {
+      std::vector<size_t>().swap(address);
+    }
+    this->VisibleBits.reset();
+    this->SampledBits.reset();
+    this->VisibleVersions.reset();
+    this->BrickTotal = 0;
+    std::fill(this->Dims, this->Dims + 3, 0);
+    this->Scalars = this->DirectionScalars = nullptr;
   }
 
   // The visible cells of every brick are to be found again (the classification changed).
@@ -590,6 +609,7 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
 {
   vtkInternals& I = *this->Internals;
   I.FrameReady = false;
+  this->LastUpdateOutOfMemory = false;
   this->NumberOfNonTransparentCells = this->NumberOfNodesVisited = this->NumberOfSamples = 0;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkFloatArray* rgba = this->InitializeOutput(vtkImageData::GetData(outputVector));
@@ -612,13 +632,24 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     return 1;
   }
 
-  // The volume: bricks and octree, once per data.
+  // The volume: bricks and octree, once per data. Their allocations are the caster's only
+  // large ones (about 7 bytes per point): when memory runs out, an error and an empty image
+  // rather than an exception through the pipeline.
   if (I.Scalars != scalars || I.ScalarsTime < scalars->GetMTime() ||
     !std::equal(dims, dims + 3, I.Dims))
   {
-    I.BuildBricks(scalars, dims);
-    if (!this->Octree->Build(scalars, dims))
+    try
     {
+      I.BuildBricks(scalars, dims);
+      if (!this->Octree->Build(scalars, dims))
+      {
+        I.ReleaseVolume();
+        return 1;
+      }
+    }
+    catch (const std::bad_alloc&)
+    {
+      this->OutOfMemory(dims, "the float bricks and octree");
       return 1;
     }
     I.Scalars = scalars;
@@ -770,7 +801,15 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       !std::equal(&I.ToData[0][0], &I.ToData[0][0] + 9, &I.DirectionToData[0][0]))
     {
       // Once per volume: each point's quantized data-space normal.
-      I.Directions.assign(I.Bricks.size(), static_cast<uint16_t>(Bins * Bins));
+      try
+      {
+        I.Directions.assign(I.Bricks.size(), static_cast<uint16_t>(Bins * Bins));
+      }
+      catch (const std::bad_alloc&)
+      {
+        this->OutOfMemory(dims, "the quantized normals (pre-shading)");
+        return 1;
+      }
       vtkSMPTools::For(0,
         dims[2],
         [&](vtkIdType k0, vtkIdType k1)
@@ -925,6 +964,25 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
+void vtkObjectOrderRayCaster::OutOfMemory(const int dims[3], const char* what)
+{
+  vtkInternals& I = *this->Internals;
+  I.ReleaseVolume();
+  this->Octree->Initialize();
+  this->LastUpdateOutOfMemory = true;
+  // What the copies need: bricks of 8^3 cells with their far faces, in float.
+  double bricks = BrickValues * sizeof(float);
+  for (int a = 0; a < 3; ++a)
+  {
+    bricks *= std::max((dims[a] - 2) / BrickCells + 1, 1);
+  }
+  vtkErrorMacro("Not enough memory for " << what << " of the " << dims[0] << " x " << dims[1]
+                                         << " x " << dims[2] << " volume (the bricks alone take "
+                                         << std::ceil(bricks / (1 << 20))
+                                         << " MiB); nothing is drawn.");
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkObjectOrderRayCaster::ComputeNonTransparentCells()
 {
   const vtkInternals& I = *this->Internals;
@@ -959,4 +1017,5 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfNodesVisited: " << this->NumberOfNodesVisited << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "LastUpdateOutOfMemory: " << this->LastUpdateOutOfMemory << "\n";
 }

@@ -236,6 +236,16 @@ public:
   vtkIdType GetMemorySize() const;
 
   /**
+   * Whether the last update ran out of memory: the float bricks and octree of the volume (about
+   * 7 bytes per point) or, with pre-shading, the quantized normals (3 more) could not be
+   * allocated. An error says how much the bricks take, the image is empty (transparent), and
+   * the copies are freed; as after any error, the next update after a change (Modified(),
+   * new scalars) tries again. vtkObjectOrderVolumeMapper then draws with
+   * vtkFixedPointVolumeRayCastMapper.
+   */
+  vtkGetMacro(LastUpdateOutOfMemory, bool);
+
+  /**
    * Entries of the classification table of the last update.
    */
   vtkGetMacro(TableSize, int);
@@ -247,6 +257,9 @@ protected:
   ~vtkObjectOrderRayCaster() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // An allocation for `what` failed: the copies freed, the error reported.
+  void OutOfMemory(const int dims[3], const char* what);
 
   double SampleDistance = 1.0;
   bool InterleavedSampling = true;
@@ -263,6 +276,7 @@ protected:
   vtkIdType NumberOfNodesVisited = 0;
   vtkIdType NumberOfSamples = 0;
   int TableSize = 0;
+  bool LastUpdateOutOfMemory = false;
   vtkMinMaxOctree* Octree;
   vtkMatrix4x4* VolumeMatrix = nullptr;
 

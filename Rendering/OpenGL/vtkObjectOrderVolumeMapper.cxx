@@ -61,7 +61,42 @@ const char* vtkObjectOrderVolumeMapper::GetFallbackReason(vtkRenderer* ren, vtkV
   {
     return "object-order ray casting renders single-component point scalars";
   }
+  if (scalars && scalars == this->OutOfMemoryScalars &&
+    scalars->GetMTime() == this->OutOfMemoryTime)
+  {
+    return "there is not enough memory for object-order ray casting's copy of the volume";
+  }
   return nullptr;
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderVolumeMapper::RenderFallback(vtkRenderer* ren,
+  vtkVolume* vol,
+  vtkImageData* input,
+  const char* reason)
+{
+  if (this->LastWarning != reason)
+  {
+    vtkWarningMacro(<< reason << "; drawing with vtkFixedPointVolumeRayCastMapper.");
+    this->LastWarning = reason;
+  }
+  this->LastFrameFellBack = true;
+  this->Fallback->SetInputData(input);
+  this->Fallback->SetBlendMode(this->BlendMode);
+  this->Fallback->SetCropping(this->Cropping);
+  this->Fallback->SetCroppingRegionPlanes(this->CroppingRegionPlanes);
+  this->Fallback->SetCroppingRegionFlags(this->CroppingRegionFlags);
+  this->Fallback->SetSampleDistance(this->SampleDistance);
+  this->Fallback->SetScalarMode(this->ScalarMode);
+  if (this->ArrayAccessMode == VTK_GET_ARRAY_BY_ID)
+  {
+    this->Fallback->SelectScalarArray(this->ArrayId);
+  }
+  else
+  {
+    this->Fallback->SelectScalarArray(this->ArrayName);
+  }
+  this->Fallback->Render(ren, vol);
 }
 
 //------------------------------------------------------------------------------
@@ -102,28 +137,7 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   if (const char* reason = this->GetFallbackReason(ren, vol))
   {
-    if (this->LastWarning != reason)
-    {
-      vtkWarningMacro(<< reason << "; drawing with vtkFixedPointVolumeRayCastMapper.");
-      this->LastWarning = reason;
-    }
-    this->LastFrameFellBack = true;
-    this->Fallback->SetInputData(input);
-    this->Fallback->SetBlendMode(this->BlendMode);
-    this->Fallback->SetCropping(this->Cropping);
-    this->Fallback->SetCroppingRegionPlanes(this->CroppingRegionPlanes);
-    this->Fallback->SetCroppingRegionFlags(this->CroppingRegionFlags);
-    this->Fallback->SetSampleDistance(this->SampleDistance);
-    this->Fallback->SetScalarMode(this->ScalarMode);
-    if (this->ArrayAccessMode == VTK_GET_ARRAY_BY_ID)
-    {
-      this->Fallback->SelectScalarArray(this->ArrayId);
-    }
-    else
-    {
-      this->Fallback->SelectScalarArray(this->ArrayName);
-    }
-    this->Fallback->Render(ren, vol);
+    this->RenderFallback(ren, vol, input, reason);
     return;
   }
   this->LastWarning.clear();
@@ -154,6 +168,15 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->Caster->SetImageSize(size);
   this->Caster->SetSampleDistance(this->SampleDistance);
   this->Caster->Update();
+  if (this->Caster->GetLastUpdateOutOfMemory())
+  {
+    // Remembered for these scalars, so that later frames do not try the allocation again.
+    this->OutOfMemoryScalars = scalars;
+    this->OutOfMemoryTime = scalars->GetMTime();
+    this->InvokeEvent(vtkCommand::VolumeMapperRenderEndEvent, nullptr);
+    this->RenderFallback(ren, vol, input, this->GetFallbackReason(ren, vol));
+    return;
+  }
   vtkFloatArray* rgba =
     vtkFloatArray::SafeDownCast(this->Caster->GetOutput()->GetPointData()->GetScalars());
   const vtkIdType n = static_cast<vtkIdType>(size[0]) * size[1];

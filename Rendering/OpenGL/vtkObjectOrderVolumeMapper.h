@@ -54,7 +54,10 @@ public:
   vtkObjectOrderRayCaster* GetCaster() { return this->Caster; }
 
   /**
-   * Whether the last frame was drawn by the internal vtkFixedPointVolumeRayCastMapper.
+   * Whether the last frame was drawn by the internal vtkFixedPointVolumeRayCastMapper: for a
+   * perspective camera, a blend mode other than composite, cropping, multi-component scalars,
+   * or scalars for which the caster ran out of memory (see
+   * vtkObjectOrderRayCaster::GetLastUpdateOutOfMemory; tried again when they change).
    */
   vtkGetMacro(LastFrameFellBack, bool);
 
@@ -71,9 +74,15 @@ protected:
   // Why the caster cannot draw this frame, or nullptr.
   const char* GetFallbackReason(vtkRenderer* ren, vtkVolume* vol);
 
+  // The frame drawn by vtkFixedPointVolumeRayCastMapper, with a warning when the reason is new.
+  void RenderFallback(vtkRenderer* ren, vtkVolume* vol, vtkImageData* input, const char* reason);
+
   double SampleDistance = 1.0;
   bool LastFrameFellBack = false;
   std::string LastWarning;
+  // The scalars (and their modification time) the caster last ran out of memory for.
+  vtkDataArray* OutOfMemoryScalars = nullptr; // not referenced: only compared
+  vtkMTimeType OutOfMemoryTime = 0;
   vtkObjectOrderRayCaster* Caster;
   vtkTextureObject* Texture;
   vtkFixedPointVolumeRayCastMapper* Fallback;
