@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <vector>
 
 vtkStandardNewMacro(vtkVolumeReferenceIntegrator);
@@ -450,7 +451,18 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   VolumeGrid grid;
   std::copy(dims, dims + 3, grid.Dims);
   const vtkIdType n = scalars->GetNumberOfTuples();
-  grid.Values.resize(n);
+  try
+  {
+    grid.Values.resize(n);
+  }
+  catch (const std::bad_alloc&)
+  {
+    // Not an exception through the pipeline, which would abort the application.
+    vtkErrorMacro("Not enough memory for the double-precision copy of the "
+      << dims[0] << " x " << dims[1] << " x " << dims[2] << " volume ("
+      << std::ceil(n * sizeof(double) / 1048576.0) << " MiB); the image is empty.");
+    return 1;
+  }
   for (vtkIdType i = 0; i < n; ++i)
   {
     grid.Values[i] = scalars->GetComponent(i, 0);

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <sstream>
 
 vtkStandardNewMacro(vtkAnalyticVolumeMapper);
@@ -247,44 +248,56 @@ bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
   this->CornerTexture->SetContext(context);
   this->CornerTexture->SetFormat(GL_RGBA);
   bool created = false;
-  size_t bytes = 0;
-  if (type == VTK_UNSIGNED_CHAR)
+  // 4 values per point: in the data's type for 8- and 16-bit unsigned data, else float.
+  const size_t bytes = texels * 4 *
+    (type == VTK_UNSIGNED_CHAR       ? 1
+        : type == VTK_UNSIGNED_SHORT ? 2
+                                     : 4);
+  const char* failure = "the texture could not be created";
+  try
   {
-    std::vector<unsigned char> packed;
-    PackCorners(
-      scalars, dims, [](double v) { return static_cast<unsigned char>(v); }, packed);
-    this->CornerTexture->SetInternalFormat(GL_RGBA8);
-    this->CornerTexture->SetDataType(GL_UNSIGNED_BYTE);
-    created = this->CornerTexture->Create3DFromRaw(
-      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_CHAR, packed.data());
-    bytes = texels * 4;
+    if (type == VTK_UNSIGNED_CHAR)
+    {
+      std::vector<unsigned char> packed;
+      PackCorners(
+        scalars, dims, [](double v) { return static_cast<unsigned char>(v); }, packed);
+      this->CornerTexture->SetInternalFormat(GL_RGBA8);
+      this->CornerTexture->SetDataType(GL_UNSIGNED_BYTE);
+      created = this->CornerTexture->Create3DFromRaw(
+        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_CHAR, packed.data());
+    }
+    else if (type == VTK_UNSIGNED_SHORT)
+    {
+      std::vector<unsigned short> packed;
+      PackCorners(
+        scalars, dims, [](double v) { return static_cast<unsigned short>(v); }, packed);
+      this->CornerTexture->SetInternalFormat(GL_RGBA16);
+      this->CornerTexture->SetDataType(GL_UNSIGNED_SHORT);
+      created = this->CornerTexture->Create3DFromRaw(
+        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_SHORT, packed.data());
+    }
+    else
+    {
+      std::vector<float> packed;
+      PackCorners(
+        scalars, dims, [=](double v) { return static_cast<float>((v - shift) / scale); }, packed);
+      this->CornerTexture->SetInternalFormat(GL_RGBA32F);
+      this->CornerTexture->SetDataType(GL_FLOAT);
+      created = this->CornerTexture->Create3DFromRaw(
+        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_FLOAT, packed.data());
+    }
   }
-  else if (type == VTK_UNSIGNED_SHORT)
+  catch (const std::bad_alloc&)
   {
-    std::vector<unsigned short> packed;
-    PackCorners(
-      scalars, dims, [](double v) { return static_cast<unsigned short>(v); }, packed);
-    this->CornerTexture->SetInternalFormat(GL_RGBA16);
-    this->CornerTexture->SetDataType(GL_UNSIGNED_SHORT);
-    created = this->CornerTexture->Create3DFromRaw(
-      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_SHORT, packed.data());
-    bytes = texels * 8;
-  }
-  else
-  {
-    std::vector<float> packed;
-    PackCorners(
-      scalars, dims, [=](double v) { return static_cast<float>((v - shift) / scale); }, packed);
-    this->CornerTexture->SetInternalFormat(GL_RGBA32F);
-    this->CornerTexture->SetDataType(GL_FLOAT);
-    created = this->CornerTexture->Create3DFromRaw(
-      dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_FLOAT, packed.data());
-    bytes = texels * 16;
+    failure = "not enough memory";
   }
   if (!created)
   {
-    vtkErrorMacro("Could not create the " << dims[0] - 1 << " x " << dims[1] - 1 << " x " << dims[2]
-                                          << " corner texture.");
+    vtkWarningMacro("Could not make the packed copy of the volume's corners ("
+      << dims[0] - 1 << " x " << dims[1] - 1 << " x " << dims[2] << " texels, "
+      << std::ceil(bytes / 1048576.0) << " MiB: " << failure
+      << "); reading each cell's 8 corners from the volume texture instead (same image).");
+    this->CornerTexture->ReleaseGraphicsResources(context);
     this->CornerTextureMemorySize = 0;
     return false;
   }
@@ -303,7 +316,7 @@ void vtkAnalyticVolumeMapper::ActivateExtensionTextures()
   {
     this->BlockTexture->Activate();
   }
-  if (this->Method == ANALYTIC && this->CornerPacking)
+  if (this->PackedThisFrame)
   {
     this->CornerTexture->Activate();
   }
@@ -316,7 +329,7 @@ void vtkAnalyticVolumeMapper::DeactivateExtensionTextures()
   {
     this->BlockTexture->Deactivate();
   }
-  if (this->Method == ANALYTIC && this->CornerPacking)
+  if (this->PackedThisFrame)
   {
     this->CornerTexture->Deactivate();
   }
@@ -363,6 +376,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   vtkRenderer* ren,
   vtkVolume* vol)
 {
+  this->PackedThisFrame = false;
   if (this->Method == STOCK && this->OutputQuantity == OUTPUT_COLOR)
   {
     return DrawStock;
@@ -441,12 +455,17 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   {
     return DrawNothing;
   }
-  if (this->Method == ANALYTIC && this->CornerPacking &&
-    !this->UpdateCornerTexture(ren, scalars, dims, scale, shift))
+  // Packed corners unless their copy could not be made for these scalars (tried again when
+  // they change): the cells are then read from VTK's texture, with the same image.
+  this->PackedThisFrame = this->Method == ANALYTIC && this->CornerPacking &&
+    !(scalars == this->UnpackableScalars && scalars->GetMTime() == this->UnpackableTime);
+  if (this->PackedThisFrame && !this->UpdateCornerTexture(ren, scalars, dims, scale, shift))
   {
-    return DrawNothing;
+    this->UnpackableScalars = scalars;
+    this->UnpackableTime = scalars->GetMTime();
+    this->PackedThisFrame = false;
   }
-  if (this->Method != ANALYTIC || !this->CornerPacking)
+  if (!this->PackedThisFrame)
   {
     this->CornerTextureMemorySize = 0;
   }
@@ -462,7 +481,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   std::ostringstream key;
   key << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
       << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity << " "
-      << this->CornerPacking;
+      << this->PackedThisFrame;
   if (key.str() != this->ShaderKey)
   {
     this->ShaderKey = key.str();
@@ -484,7 +503,7 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
            << "#define HOVR_SHADE " << (vol->GetProperty()->GetShade(0) ? 1 : 0) << "\n"
            << "#define HOVR_OUTPUT " << this->OutputQuantity << "\n"
            << "#define HOVR_BLOCK " << this->BlockSize << "\n"
-           << "#define HOVR_PACKED " << (this->CornerPacking ? 1 : 0) << "\n";
+           << "#define HOVR_PACKED " << (this->PackedThisFrame ? 1 : 0) << "\n";
   bool ok = true;
   if (this->Method == ANALYTIC)
   {
@@ -567,7 +586,7 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   {
     program->SetUniformi("hovr_blockRange", this->BlockTexture->GetTextureUnit());
   }
-  if (this->CornerPacking)
+  if (this->PackedThisFrame)
   {
     program->SetUniformi("hovr_corners", this->CornerTexture->GetTextureUnit());
   }

@@ -116,7 +116,9 @@ public:
    * volume holding 4 points per texel (the point and its neighbours in x, y and both). Costs
    * 4 values per point of GPU memory (in the data's type for 8- and 16-bit unsigned scalars,
    * else float: 4, 8 or 16 bytes per point) for ~25% less time per analytic frame on
-   * llvmpipe. The image is the same either way. Initial value is on.
+   * llvmpipe. The image is the same either way. When the copy cannot be made (not enough
+   * memory, or the GPU refuses the texture), the cells are read from VTK's volume texture
+   * after one warning, until the scalars change. Initial value is on.
    */
   vtkSetMacro(CornerPacking, bool);
   vtkGetMacro(CornerPacking, bool);
@@ -179,6 +181,9 @@ protected:
   float RawExtreme = 0.0f;
   vtkCameraRayModel* RayModel;
   bool CornerPacking = true;
+  bool PackedThisFrame = false; // CornerPacking, unless the copy failed for these scalars
+  vtkDataArray* UnpackableScalars = nullptr; // not referenced: only compared
+  vtkMTimeType UnpackableTime = 0;
   vtkTextureObject* CornerTexture;
   vtkIdType CornerTextureMemorySize = 0;
   vtkTimeStamp CornerBuildTime;

@@ -1,13 +1,17 @@
-"""Object-order ray casting when memory runs out: a volume whose float bricks do not fit gives
-an error that says how much they take and an empty image, never an exception through the
-pipeline (which aborts Python, pvbatch or any VTK application); the copies are freed. In a
-window, vtkObjectOrderVolumeMapper then draws with vtkFixedPointVolumeRayCastMapper after
-one warning, does not try the allocation again on later frames, and returns to the caster
-when the scalars change and memory suffices.
+"""When memory runs out for a copy of the volume, never an exception through the pipeline
+(which aborts Python, pvbatch or any VTK application):
+- object-order ray casting (float bricks and octree): an error that says how much the bricks
+  take and an empty image; the copies are freed. In a window, vtkObjectOrderVolumeMapper then
+  draws with vtkFixedPointVolumeRayCastMapper after one warning, does not try the allocation
+  again on later frames, and returns to the caster when the scalars change and memory
+  suffices;
+- the reference integrator (a double copy): an error and an empty image;
+- the analytic mapper's packed corners (4 values per point): one warning, and the cells are
+  read from VTK's volume texture instead, giving the image CornerPacking off gives.
 
 Memory is limited with the process's address-space limit (RLIMIT_AS), set to what the
 process uses plus HEADROOM once the window, the threads and the volume exist: the volume's
-bricks take more than that headroom, VTK's own mapper needs far less.
+copies take more than that headroom, VTK's own mappers need far less.
 """
 
 import sys
@@ -16,7 +20,8 @@ import numpy
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer,
-                                         vtkRenderWindow, vtkVolume, vtkWindowToImageFilter)
+                                         vtkRenderWindow, vtkVolume, vtkVolumeProperty,
+                                         vtkWindowToImageFilter)
 
 import hovr
 from hovr import io as hio
@@ -154,5 +159,65 @@ big.GetPointData().GetScalars().Modified()
 window.Render()
 c.check(not mapper.GetLastFrameFellBack() and len(messages.errors) == 1,
         "changed scalars, memory back: object-order again")
+
+# The reference integrator.
+reference = hovr.vtkVolumeReferenceIntegrator()
+messages = Messages(reference)
+reference.SetInputData(big)
+reference.SetVolumeProperty(prop)
+reference.SetCamera(hio.default_camera(big.GetBounds(), parallel=True))
+reference.SetImageSize(*SIZE)
+limited(reference.Update)
+print("reference:", messages.errors)
+rgba = vtk_to_numpy(reference.GetOutput().GetPointData().GetScalars())
+c.check(len(messages.errors) == 1 and "Not enough memory" in messages.errors[0] and
+        "%d MiB" % -(-POINTS ** 3 * 8 // 2 ** 20) in messages.errors[0],
+        "reference out of memory: one error with the copy's size")
+c.check(rgba.shape == (SIZE[0] * SIZE[1], 4) and not rgba.any(),
+        "reference out of memory: the image is empty")
+del reference
+
+# The analytic mapper's packed corners (uint8: 4 bytes per point, 243 MiB).
+analytic = hovr.vtkAnalyticVolumeMapper()
+analytic.SetBlendModeToIsoSurface()
+analytic.SetInputData(big)
+messages = Messages(analytic)
+iso = vtkVolumeProperty()
+iso.DeepCopy(prop)
+iso.GetIsoSurfaceValues().SetValue(0, 100.5)
+actor.SetMapper(analytic)
+actor.SetProperty(iso)
+
+
+def pixels():
+    capture = vtkWindowToImageFilter()
+    capture.SetInput(window)
+    capture.Update()
+    return vtk_to_numpy(capture.GetOutput().GetPointData().GetScalars()).copy()
+
+
+def two_frames():
+    window.Render()
+    window.Render()
+    return pixels()
+
+
+unpacked = limited(two_frames)
+print("analytic:", messages.errors, messages.warnings)
+c.check(not messages.errors and len(messages.warnings) == 1 and
+        "not enough memory" in messages.warnings[0] and "same image" in messages.warnings[0] and
+        analytic.GetCornerTextureMemorySize() == 0,
+        "packed corners out of memory: one warning, no packed texture")
+analytic.SetCornerPacking(False)
+window.Render()
+expected = pixels()
+c.check(unpacked.max() > 0 and numpy.array_equal(unpacked, expected),
+        "packed corners out of memory: the image of CornerPacking off")
+analytic.SetCornerPacking(True)
+big.GetPointData().GetScalars().Modified()
+window.Render()
+c.check(analytic.GetCornerTextureMemorySize() > 0 and len(messages.warnings) == 1 and
+        numpy.array_equal(pixels(), expected),
+        "changed scalars, memory back: packed again, same image")
 window.Finalize()
 c.finish()
