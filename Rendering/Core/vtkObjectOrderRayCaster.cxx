@@ -979,7 +979,7 @@ void vtkObjectOrderRayCaster::OutOfMemory(const int dims[3], const char* what)
   vtkErrorMacro("Not enough memory for " << what << " of the " << dims[0] << " x " << dims[1]
                                          << " x " << dims[2] << " volume (the bricks alone take "
                                          << std::ceil(bricks / (1 << 20))
-                                         << " MiB); nothing is drawn.");
+                                         << " MiB); the image is empty.");
 }
 
 //------------------------------------------------------------------------------
