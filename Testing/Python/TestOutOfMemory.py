@@ -135,14 +135,18 @@ c.check(not mapper.GetLastFrameFellBack() and not messages.errors, "the mapper d
 mapper.SetInputData(big)
 
 
+def pixels():
+    capture = vtkWindowToImageFilter()
+    capture.SetInput(window)
+    capture.Update()
+    return vtk_to_numpy(capture.GetOutput().GetPointData().GetScalars()).copy()
+
+
 def frames():
     window.Render()
     first = mapper.GetLastFrameFellBack()
     window.Render()
-    capture = vtkWindowToImageFilter()
-    capture.SetInput(window)
-    capture.Update()
-    return first, vtk_to_numpy(capture.GetOutput().GetPointData().GetScalars()).max()
+    return first, pixels().max()
 
 
 fell_back, brightest = limited(frames)
@@ -187,13 +191,6 @@ iso.DeepCopy(prop)
 iso.GetIsoSurfaceValues().SetValue(0, 100.5)
 actor.SetMapper(analytic)
 actor.SetProperty(iso)
-
-
-def pixels():
-    capture = vtkWindowToImageFilter()
-    capture.SetInput(window)
-    capture.Update()
-    return vtk_to_numpy(capture.GetOutput().GetPointData().GetScalars()).copy()
 
 
 def two_frames():
