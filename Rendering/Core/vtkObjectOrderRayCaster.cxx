@@ -53,6 +53,12 @@ constexpr int BrickPoints = BrickCells + 1;
 constexpr int BrickValues = BrickPoints * BrickPoints * BrickPoints;
 constexpr int BrickWords = BrickCells * BrickCells * BrickCells / 64; // a bit per cell
 constexpr int MaxLeafLevel = 3; // leaves of at most 8^3 cells: inside one brick
+
+// Bricks along an axis of `points` points (at least one, for a flat axis).
+int BrickCountAlong(int points)
+{
+  return std::max((points - 2) / BrickCells + 1, 1);
+}
 }
 
 namespace
@@ -140,7 +146,7 @@ public:
     for (int a = 0; a < 3; ++a)
     {
       this->Cells[a] = dims[a] - 1;
-      this->BrickCount[a] = std::max((this->Cells[a] + BrickCells - 1) / BrickCells, 1);
+      this->BrickCount[a] = BrickCountAlong(dims[a]);
     }
     const size_t brickStride[3] = { 1,
       static_cast<size_t>(this->BrickCount[0]),
@@ -974,7 +980,7 @@ void vtkObjectOrderRayCaster::OutOfMemory(const int dims[3], const char* what)
   double bricks = BrickValues * sizeof(float);
   for (int a = 0; a < 3; ++a)
   {
-    bricks *= std::max((dims[a] - 2) / BrickCells + 1, 1);
+    bricks *= BrickCountAlong(dims[a]);
   }
   vtkErrorMacro("Not enough memory for " << what << " of the " << dims[0] << " x " << dims[1]
                                          << " x " << dims[2] << " volume (the bricks alone take "
