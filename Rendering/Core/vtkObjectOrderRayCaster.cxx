@@ -989,6 +989,14 @@ void vtkObjectOrderRayCaster::OutOfMemory(const int dims[3], const char* what)
 }
 
 //------------------------------------------------------------------------------
+void vtkObjectOrderRayCaster::GetLastVolumePixels(int rect[4]) const
+{
+  const vtkInternals& I = *this->Internals;
+  const int none[4] = { 0, -1, 0, -1 };
+  std::copy(I.FrameReady ? I.VolumePixels : none, (I.FrameReady ? I.VolumePixels : none) + 4, rect);
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkObjectOrderRayCaster::ComputeNonTransparentCells()
 {
   const vtkInternals& I = *this->Internals;

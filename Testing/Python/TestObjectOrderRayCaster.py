@@ -4,7 +4,8 @@ and against itself.
 Accuracy (96 x 96, parallel views of Marschner-Lobb 41^3 with the narrow-spike transfer
 function; pre-integrated classification, and the paper's point-sampled one once): RMSE at half a voxel below 0.06 (0.1 along an axis, where samples lie on grid planes), falling with the step (first order at least:
 RMSE(1/4) < 0.7 RMSE(1/2)), for an oblique view, a view exactly along an axis and one along a
-diagonal, a 2-voxel-thick volume and a volume much larger than the image.
+diagonal, a 2-voxel-thick volume and a volume much larger than the image. The volume's
+pixels (GetLastVolumePixels) hold every non-zero pixel, and none when it is out of view.
 
 Invariants: the same image (bit for bit) with 1 and 2 threads, with tiles of 8 and 64 pixels,
 and with and without hidden volume removal; leaves of 1, 2, 4 and 8 cells agree to float
@@ -126,6 +127,34 @@ camera = parallel(ml)
 expected = reference(ml, prop, camera, small)
 error = rmse(pixels(caster(ml, prop, camera, 0.025, small)), expected)
 c.check(error < 0.1, "volume larger than a 12 x 12 image: RMSE %.4f" % error)
+
+# The volume's pixels (what a mapper draws): the image is zero outside them; none before an
+# update or when the volume is out of view.
+def volume_pixels(algorithm):
+    rect = [0, 0, 0, 0]
+    algorithm.GetLastVolumePixels(rect)
+    return rect
+
+
+c.check(volume_pixels(hovr.vtkObjectOrderRayCaster())[1] < 0, "no volume pixels before an update")
+camera = parallel(ml)
+camera.SetParallelScale(3.0 * camera.GetParallelScale())  # the volume in the image's middle
+far = caster(ml, prop, camera, 0.05)
+x0, x1, y0, y1 = volume_pixels(far)
+alpha = pixels(far)[:, 3].reshape(SIZE, SIZE)  # rows are y
+outside = alpha.copy()
+outside[y0:y1 + 1, x0:x1 + 1] = 0.0
+print("volume pixels of a zoomed-out view: [%d, %d] x [%d, %d]" % (x0, x1, y0, y1))
+c.check(0 < x0 <= x1 < SIZE - 1 and 0 < y0 <= y1 < SIZE - 1,
+        "zoomed out: the volume's pixels lie inside the image")
+c.check(alpha[y0:y1 + 1, x0:x1 + 1].max() > 0.2 and not outside.any(),
+        "zoomed out: the image is zero outside the volume's pixels")
+camera.SetFocalPoint(10.0, 10.0, 10.0)
+camera.SetPosition(15.0, 2.0, 14.5)
+away = caster(ml, prop, camera, 0.05)
+rect = volume_pixels(away)
+c.check((rect[1] < rect[0] or rect[3] < rect[2]) and not pixels(away).any(),
+        "volume out of view: no volume pixels, an empty image")
 
 # The same image whatever the threads, tiles and hidden volume removal.
 camera = parallel(ml)

@@ -1,5 +1,5 @@
 """vtkObjectOrderVolumeMapper in a render window: what it draws is vtkObjectOrderRayCaster's
-image (exactly: a float texture drawn texel for pixel); a volume moved by its matrix with the camera moved alike
+image (exactly: a float texture drawn texel for pixel, only over the volume's pixels); a volume moved by its matrix with the camera moved alike
 gives the same image; what it cannot draw (a perspective camera, maximum intensity, cropping)
 is drawn by vtkFixedPointVolumeRayCastMapper after one warning per reason, and drawing
 returns to the object-order caster when the reason goes away; the array the scalar mode and
@@ -50,6 +50,22 @@ c.check(drawn.samples_per_frame > 0 and drawn.extra["nontransparent_cells"] > 0,
 c.check(drawn.extra["occluded_ratio_first_hit"] >= drawn.extra["occluded_ratio"] > 0.0,
         "the first-hit occluded ratio bounds the occluded ratio (%.3f >= %.3f)"
         % (drawn.extra["occluded_ratio_first_hit"], drawn.extra["occluded_ratio"]))
+
+# Zoomed out and off centre: the mapper draws only the volume's pixels, at their place.
+small = hio.default_camera(scene.image.GetBounds(), parallel=True)
+small.SetParallelScale(2.5 * small.GetParallelScale())
+shift = [0.9 * small.GetParallelScale() * u for u in small.GetViewUp()]
+small.SetPosition(*[p + d for p, d in zip(small.GetPosition(), shift)])
+small.SetFocalPoint(*[p + d for p, d in zip(small.GetFocalPoint(), shift)])
+corner = renderer.render("objectorder", hm.Scene(scene.image, scene.prop, small, SIZE),
+                         step / 0.05)
+window = vtk_to_numpy(corner.image.GetPointData().GetScalars())
+computed_small = caster_pixels(small)
+lit = numpy.nonzero(computed_small[:, 3].reshape(SIZE[1], SIZE[0]))
+difference = numpy.abs(window - computed_small).max()
+c.check(lit[0].size > 0 and lit[0].max() < SIZE[1] // 2 and difference < 1e-6,
+        "a small volume in the image's lower half: the window shows the caster's image "
+        "(difference %.1e)" % difference)
 
 # Moving the volume by its matrix and the camera alike changes nothing.
 moved = hio.default_camera(scene.image.GetBounds(), parallel=True)
@@ -127,6 +143,19 @@ window.Render()
 c.check(len(messages.errors) == 1 and "point scalars" in messages.errors[0],
         "cell data: an error, nothing drawn (VTK's CPU mapper does not draw it either)")
 mapper.SetScalarModeToDefault()
+# A frame the caster fails (a negative step: an error, nothing drawn) still fires a render
+# end event after its start event.
+from vtkmodules.vtkCommonCore import vtkCommand  # noqa: E402
+events = []
+mapper.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, lambda o, e: events.append("start"))
+mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, lambda o, e: events.append("end"))
+errors = len(messages.errors)
+mapper.SetSampleDistance(-1.0)
+window.Render()
+c.check(len(messages.errors) == errors + 1 and "sample distance" in messages.errors[-1]
+        and events == ["start", "end"], "a negative step: the caster's error, start and end "
+        "events paired (%s)" % events)
+mapper.SetSampleDistance(step)
 window.Finalize()
 renderer.close()
 c.finish()
