@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationTable::vtkPreIntegrationTable()
@@ -71,9 +72,29 @@ bool vtkPreIntegrationTable::Update()
     entries *= this->TableSize;
   }
   const double start = vtkTimerLog::GetUniversalTime();
-  this->Table->SetNumberOfTuples(this->ComputeEntries ? entries : 0);
-  this->BuildTable();
-  this->BuildEmptyRuns();
+  // The table (16 bytes per entry) and the build's scratch are the only large allocations:
+  // when memory runs out, an error rather than an exception through the caller.
+  const vtkIdType wanted = this->ComputeEntries ? entries : 0;
+  try
+  {
+    this->Table->SetNumberOfTuples(wanted);
+    if (this->Table->GetNumberOfTuples() != wanted)
+    {
+      throw std::bad_alloc(); // vtkFloatArray reports the failure and keeps its old size
+    }
+    this->BuildTable();
+    this->BuildEmptyRuns();
+  }
+  catch (const std::bad_alloc&)
+  {
+    this->Table->Initialize();
+    vtkErrorMacro("Not enough memory for the pre-integration table of "
+      << this->TableSize << "^" << this->GetNumberOfDimensions() << " entries ("
+      << static_cast<vtkIdType>(
+           std::ceil(static_cast<double>(entries) * 4 * sizeof(float) / (1 << 20)))
+      << " MiB); a smaller TableSize needs less.");
+    return false;
+  }
   this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;
   this->BuildCount++;
   this->BuildMTime = mtime;

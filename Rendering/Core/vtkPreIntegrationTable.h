@@ -81,7 +81,9 @@ public:
 
   /**
    * Rebuild the table if anything it depends on changed. Returns false and reports an error
-   * for invalid settings (missing transfer function, non-positive lengths, empty range).
+   * for invalid settings (missing transfer function, non-positive lengths, empty range) and
+   * when memory runs out for the table (16 bytes per entry: TableSize^3 of them for the
+   * second-order table), which is then empty.
    */
   bool Update();
 

@@ -6,6 +6,8 @@
   again on later frames, and returns to the caster when the scalars change and memory
   suffices;
 - the reference integrator (a double copy): an error and an empty image;
+- a 3D pre-integration table built on the CPU: Update() is false, with an error that gives
+  the table's size;
 - the analytic mapper's packed corners (4 values per point): one warning, and the cells are
   read from VTK's volume texture instead, giving the image CornerPacking off gives.
 
@@ -180,6 +182,26 @@ c.check(len(messages.errors) == 1 and "Not enough memory" in messages.errors[0] 
 c.check(rgba.shape == (SIZE[0] * SIZE[1], 4) and not rgba.any(),
         "reference out of memory: the image is empty")
 del reference
+
+# A second-order pre-integration table built on the CPU: 400^3 entries of float RGBA take
+# 977 MiB.
+table = hovr.vtkSecondOrderPreIntegrationTable()
+messages = Messages(table)
+array_messages = Messages(table.GetTable())  # vtkFloatArray's own report of the failure
+table.SetVolumeProperty(prop)
+table.SetScalarRange(0.0, 255.0)
+table.SetSegmentLength(1.0)
+table.SetTableSize(400)
+built = limited(table.Update)
+print("table:", messages.errors)
+c.check(not built and len(messages.errors) == 1 and "Not enough memory" in messages.errors[0]
+        and "400^3" in messages.errors[0] and "977 MiB" in messages.errors[0]
+        and table.GetTable().GetNumberOfTuples() == 0,
+        "3D table out of memory: Update() is false, one error with the table's size, no table")
+table.SetTableSize(32)
+c.check(table.Update() and table.GetTable().GetNumberOfTuples() == 32 ** 3,
+        "a smaller table then builds")
+del table
 
 # The analytic mapper's packed corners (uint8: 4 bytes per point, 243 MiB).
 analytic = hovr.vtkAnalyticVolumeMapper()
