@@ -991,9 +991,10 @@ void vtkObjectOrderRayCaster::OutOfMemory(const int dims[3], const char* what)
 //------------------------------------------------------------------------------
 void vtkObjectOrderRayCaster::GetLastVolumePixels(int rect[4]) const
 {
+  static const int none[4] = { 0, -1, 0, -1 };
   const vtkInternals& I = *this->Internals;
-  const int none[4] = { 0, -1, 0, -1 };
-  std::copy(I.FrameReady ? I.VolumePixels : none, (I.FrameReady ? I.VolumePixels : none) + 4, rect);
+  const int* pixels = I.FrameReady ? I.VolumePixels : none;
+  std::copy(pixels, pixels + 4, rect);
 }
 
 //------------------------------------------------------------------------------

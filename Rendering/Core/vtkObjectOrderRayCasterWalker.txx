@@ -326,7 +326,7 @@ public:
     // alpha = 1 - (1 - full)^(length / step); the two lengths most pieces have (a whole step
     // and half of one) without the logarithm and exponential (to 1e-12 of the exponent). The
     // other lengths (a ray's first and last pieces, one per ray entering through a visible
-    // face) take float logf and expf, which glibc computes several times faster than double
+    // face) take float logf and expf, which glibc computes about 2.5 times faster than double
     // log1p and expm1 (measured: 6% less time per frame on ml256-opaque); the absolute error
     // of alpha stays within a few float ulps of 1, far below the sampling error.
     const double ratio = length / step;
