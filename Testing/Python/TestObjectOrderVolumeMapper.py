@@ -13,7 +13,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, Messages, marschner_lobb_scene
+from hovrtesting import Checker, Messages, marschner_lobb_scene, offscreen_window
 
 c = Checker()
 SIZE = (96, 80)
@@ -79,12 +79,7 @@ c.check(numpy.abs(shifted - computed).max() < 1e-5,
         % numpy.abs(shifted - computed).max())
 
 # Fallbacks, drawn directly in a window.
-from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer  # noqa: E402
-window = vtkRenderWindow()
-window.SetOffScreenRendering(1)
-window.SetSize(*SIZE)
-view = vtkRenderer()
-window.AddRenderer(view)
+window, view = offscreen_window(SIZE)
 mapper = hovr.vtkObjectOrderVolumeMapper()
 mapper.SetInputData(scene.image)
 mapper.SetSampleDistance(step)

@@ -21,13 +21,12 @@ import sys
 import numpy
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
-from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer,
-                                         vtkRenderWindow, vtkVolume, vtkVolumeProperty,
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkVolume, vtkVolumeProperty,
                                          vtkWindowToImageFilter)
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, Messages
+from hovrtesting import Checker, Messages, offscreen_window
 
 try:
     import resource
@@ -117,11 +116,7 @@ c.check(not caster.GetLastUpdateOutOfMemory() and len(messages.errors) == 1 and
 del caster
 
 # The mapper in a window.
-window = vtkRenderWindow()
-window.SetOffScreenRendering(1)
-window.SetSize(*SIZE)
-view = vtkRenderer()
-window.AddRenderer(view)
+window, view = offscreen_window(SIZE)
 mapper = hovr.vtkObjectOrderVolumeMapper()
 mapper.SetSampleDistance(step)
 mapper.SetInputData(small)

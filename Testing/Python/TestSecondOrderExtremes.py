@@ -19,7 +19,7 @@ from vtkmodules.vtkRenderingCore import vtkColorTransferFunction
 
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, image_from_array, rgba
+from hovrtesting import Checker, image_from_array, offscreen_window, rgba
 
 c = Checker()
 renderer = hm.Renderer()
@@ -129,12 +129,8 @@ scene = hm.Scene(box, prop, hio.default_camera(box.GetBounds()), (64, 64))
 method = hm.get_method("preint2")
 mapper = method.make_mapper()
 results = []
-from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer, vtkVolume  # noqa: E402
-window = vtkRenderWindow()
-window.SetOffScreenRendering(1)
-window.SetSize(64, 64)
-view = vtkRenderer()
-window.AddRenderer(view)
+from vtkmodules.vtkRenderingCore import vtkVolume  # noqa: E402
+window, view = offscreen_window((64, 64))
 volume = vtkVolume()
 volume.SetMapper(mapper)
 volume.SetProperty(prop)

@@ -21,6 +21,18 @@ def shared_volume(name):
     return path if os.path.isfile(path) else None
 
 
+def offscreen_window(size):
+    """An offscreen render window of ``size`` (width, height) made through VTK's factory, and
+    its one renderer."""
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(*size)
+    view = vtkRenderer()
+    window.AddRenderer(view)
+    return window, view
+
+
 def tf_path(name):
     return os.path.join(PRESETS, "transfer-functions", name + ".json")
 
