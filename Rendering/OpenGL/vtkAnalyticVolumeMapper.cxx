@@ -256,35 +256,36 @@ bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
   const char* failure = "the texture could not be created";
   try
   {
+    // One texel type per scalar type: its conversion, GL internal format and data type.
+    auto upload = [&](auto convert, int internalFormat, int glType, int vtkType)
+    {
+      std::vector<decltype(convert(0.0))> packed;
+      PackCorners(scalars, dims, convert, packed);
+      this->CornerTexture->SetInternalFormat(internalFormat);
+      this->CornerTexture->SetDataType(glType);
+      return this->CornerTexture->Create3DFromRaw(
+        dims[0] - 1, dims[1] - 1, dims[2], 4, vtkType, packed.data());
+    };
     if (type == VTK_UNSIGNED_CHAR)
     {
-      std::vector<unsigned char> packed;
-      PackCorners(
-        scalars, dims, [](double v) { return static_cast<unsigned char>(v); }, packed);
-      this->CornerTexture->SetInternalFormat(GL_RGBA8);
-      this->CornerTexture->SetDataType(GL_UNSIGNED_BYTE);
-      created = this->CornerTexture->Create3DFromRaw(
-        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_CHAR, packed.data());
+      created = upload([](double v) { return static_cast<unsigned char>(v); },
+        GL_RGBA8,
+        GL_UNSIGNED_BYTE,
+        VTK_UNSIGNED_CHAR);
     }
     else if (type == VTK_UNSIGNED_SHORT)
     {
-      std::vector<unsigned short> packed;
-      PackCorners(
-        scalars, dims, [](double v) { return static_cast<unsigned short>(v); }, packed);
-      this->CornerTexture->SetInternalFormat(GL_RGBA16);
-      this->CornerTexture->SetDataType(GL_UNSIGNED_SHORT);
-      created = this->CornerTexture->Create3DFromRaw(
-        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_UNSIGNED_SHORT, packed.data());
+      created = upload([](double v) { return static_cast<unsigned short>(v); },
+        GL_RGBA16,
+        GL_UNSIGNED_SHORT,
+        VTK_UNSIGNED_SHORT);
     }
     else
     {
-      std::vector<float> packed;
-      PackCorners(
-        scalars, dims, [=](double v) { return static_cast<float>((v - shift) / scale); }, packed);
-      this->CornerTexture->SetInternalFormat(GL_RGBA32F);
-      this->CornerTexture->SetDataType(GL_FLOAT);
-      created = this->CornerTexture->Create3DFromRaw(
-        dims[0] - 1, dims[1] - 1, dims[2], 4, VTK_FLOAT, packed.data());
+      created = upload([=](double v) { return static_cast<float>((v - shift) / scale); },
+        GL_RGBA32F,
+        GL_FLOAT,
+        VTK_FLOAT);
     }
   }
   catch (const std::bad_alloc&)
