@@ -55,6 +55,9 @@ int vtkMarschnerLobbSource::RequestInformation(vtkInformation*,
   outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   vtkDataObject::SetPointDataActiveScalarInfo(outInfo, type, 1);
+  // Any sub-extent is computed on its own, so a parallel pipeline (ParaView under MPI) or a
+  // streaming one asks each piece for its extent only, not every piece for the whole volume.
+  outInfo->Set(CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 

@@ -12,7 +12,8 @@
  *
  * The output scalar "MarschnerLobb" is float by default; with OutputScalarType set to
  * VTK_UNSIGNED_CHAR or VTK_UNSIGNED_SHORT the values are scaled to the full integer range and
- * rounded, to test integer data paths.
+ * rounded, to test integer data paths. Any sub-extent can be requested (a piece of a parallel
+ * pipeline computes only its own points, the same values as in the whole volume).
  */
 #ifndef vtkMarschnerLobbSource_h
 #define vtkMarschnerLobbSource_h

@@ -11,7 +11,8 @@
  * a fixed step steps over many of them, the analytic first hit finds them all (the test volume
  * of issue 4's measurements).
  *
- * Spacing 1, origin 0, extent 0..dims-1; float scalars "ThinFeatures" in [0, 1].
+ * Spacing 1, origin 0, extent 0..dims-1; float scalars "ThinFeatures" in [0, 1]. Any
+ * sub-extent can be requested (a piece of a parallel pipeline computes only its own points).
  */
 #ifndef vtkThinFeatureSource_h
 #define vtkThinFeatureSource_h

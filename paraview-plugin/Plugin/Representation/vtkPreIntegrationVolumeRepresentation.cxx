@@ -3,6 +3,7 @@
 
 #include "vtkAnalyticVolumeMapper.h"
 #include "vtkImageData.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkObjectOrderRayCaster.h"
@@ -94,6 +95,24 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
     chosen->SetInputConnection(this->VolumeMapper->GetInputConnection(0, 0));
     this->VolumeMapper = chosen;
   }
+  // ParaView joins the ranks' images front to back ("over"), which is not the maximum or
+  // minimum over the pieces: say so rather than draw a silently different image.
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  const bool distributedProjection =
+    ranks > 1 && (this->Integration == ANALYTIC_MIP || this->Integration == ANALYTIC_MINIP);
+  if (distributedProjection && !this->WarnedDistributedProjection &&
+    controller->GetLocalProcessId() == 0)
+  {
+    vtkWarningMacro(<< (this->Integration == ANALYTIC_MIP ? "Analytic MIP" : "Analytic MinIP")
+                    << " on " << ranks
+                    << " ranks: each rank projects only its piece of the volume and ParaView "
+                       "composites the pieces' images front to back, not by maximum or "
+                       "minimum, so where pieces overlap on screen the image is not the "
+                       "projection of the whole volume. Render on one rank for an exact "
+                       "projection.");
+  }
+  this->WarnedDistributedProjection = distributedProjection;
   this->VolumeMapper->SetCropping(this->Cropping != 0);
   this->VolumeMapper->SetBlendMode(this->BlendMode);
   this->Superclass::UpdateMapperParameters();

@@ -22,6 +22,12 @@
  * (object-order ray casting, for servers without a GPU), in parallel projection; with a
  * perspective camera it draws with VTK's vtkFixedPointVolumeRayCastMapper after a warning.
  *
+ * Under MPI (pvbatch or pvserver on several ranks) every rank draws its piece of the volume
+ * and ParaView joins the images front to back ("over"): right for composite rendering and
+ * isosurfaces, but not a maximum or minimum over the pieces, so ANALYTIC_MIP and
+ * ANALYTIC_MINIP on more than one rank give a warning (once, from rank 0, until the choice
+ * or the rank count changes).
+ *
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
  */
@@ -187,6 +193,7 @@ protected:
   int LeafSize;
   int InstructionSet;
   double EffectiveSampleDistance = 0.0;
+  bool WarnedDistributedProjection = false;
 
 private:
   vtkPreIntegrationVolumeRepresentation(const vtkPreIntegrationVolumeRepresentation&) = delete;

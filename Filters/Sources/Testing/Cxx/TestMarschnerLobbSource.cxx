@@ -1,12 +1,14 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 // vtkMarschnerLobbSource against the closed form of Marschner and Lobb (1994),
 //   rho(x, y, z) = (1 - sin(pi z / 2) + alpha (1 + cos(2 pi f_M cos(pi r / 2)))) / (2 (1 + alpha)),
-// r = sqrt(x^2 + y^2), on the grid [-1, 1]^3 with spacing 2 / (n - 1), for every output type.
+// r = sqrt(x^2 + y^2), on the grid [-1, 1]^3 with spacing 2 / (n - 1), for every output type;
+// a piece of a parallel pipeline is a part of the grid with the same values.
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkMarschnerLobbSource.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTestErrorObserver.h"
 
 #include <algorithm>
@@ -170,6 +172,39 @@ int TestMarschnerLobbSource(int, char*[])
     Check(r[0] >= 0.0 && r[1] == scale,
       label + ": values in [0, max], the maximum rho = 1 at (0, 0, -1)");
   }
+
+  // Piece 1 of 2 (as an MPI rank asks): a part of the grid, not all of it, equal to the
+  // whole grid's points there.
+  source->SetOutputScalarType(VTK_FLOAT);
+  source->Update();
+  vtkNew<vtkImageData> whole;
+  whole->DeepCopy(source->GetOutput());
+  source->UpdatePiece(1, 2, 0);
+  vtkImageData* piece = source->GetOutput();
+  int pieceExtent[6];
+  piece->GetExtent(pieceExtent);
+  const vtkIdType piecePoints = piece->GetNumberOfPoints();
+  if (Check(piecePoints > 0 && piecePoints < whole->GetNumberOfPoints(),
+        "piece 1 of 2 holds a part of the grid (" + std::to_string(piecePoints) + " points)"))
+  {
+    double worstPiece = 0.0;
+    for (int k = pieceExtent[4]; k <= pieceExtent[5]; ++k)
+    {
+      for (int j = pieceExtent[2]; j <= pieceExtent[3]; ++j)
+      {
+        for (int i = pieceExtent[0]; i <= pieceExtent[1]; ++i)
+        {
+          int ijk[3] = { i, j, k };
+          worstPiece = std::max(worstPiece,
+            std::abs(
+              piece->GetPointData()->GetScalars()->GetComponent(piece->ComputePointId(ijk), 0) -
+              whole->GetPointData()->GetScalars()->GetComponent(whole->ComputePointId(ijk), 0)));
+        }
+      }
+    }
+    Check(worstPiece == 0.0, "the piece's points equal the whole grid's");
+  }
+  source->UpdateWholeExtent();
 
   // Dimensions below 2 are raised to 2; an unsupported type is reported and gives float.
   source->SetDimensions(1, 3, 2);

@@ -1,0 +1,57 @@
+# hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+"""Run a pvbatch test script on one rank, then on several under MPI, the second run comparing
+its images with the first's.
+
+    python3 RunMPI.py --mpiexec <mpiexec> --pvbatch <pvbatch> --ranks 2 \\
+        --output-dir <dir> -- <script.py> [script arguments...]
+
+The one-rank run gets `--output-dir <dir>/1`; the MPI run gets `--output-dir <dir>/<ranks>
+--compare-dir <dir>/1 --ranks <ranks>`. Exits with the first failing run's exit code. Both
+runs inherit the environment (DISPLAY, PYTHONPATH); Open MPI is allowed to run as root and
+to place more ranks than cores (a CI container), through its environment variables, which
+other MPI implementations ignore.
+"""
+import argparse
+import os
+import subprocess
+import sys
+
+# Seconds after which a run has hung.
+RUN_TIMEOUT = 600
+
+
+def run(command, env):
+    print(" ".join(command), flush=True)
+    try:
+        return subprocess.run(command, env=env, timeout=RUN_TIMEOUT).returncode
+    except subprocess.TimeoutExpired:
+        print("did not finish within %d s" % RUN_TIMEOUT)
+        return 1
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mpiexec", required=True, help="the MPI launcher")
+    parser.add_argument("--pvbatch", required=True, help="the pvbatch executable")
+    parser.add_argument("--ranks", type=int, default=2, help="processes of the MPI run")
+    parser.add_argument("--output-dir", required=True, help="where both runs write images")
+    argv = sys.argv[1:]
+    if "--" not in argv or argv.index("--") == len(argv) - 1:
+        parser.error("no test script given after --")
+    split = argv.index("--")
+    args = parser.parse_args(argv[:split])
+    script = argv[split + 1:]
+
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    single = os.path.join(args.output_dir, "1")
+    code = run([args.pvbatch] + script + ["--output-dir", single], env)
+    if code != 0:
+        return code
+    return run([args.mpiexec, "-n", str(args.ranks), args.pvbatch] + script +
+               ["--output-dir", os.path.join(args.output_dir, str(args.ranks)),
+                "--compare-dir", single, "--ranks", str(args.ranks)], env)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

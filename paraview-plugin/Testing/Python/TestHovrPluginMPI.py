@@ -1,0 +1,175 @@
+# hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+"""pvbatch test of the hovr plugin on distributed data (run by RunMPI.py, once on one rank and
+once under MPI).
+
+Renders a semi-transparent Marschner-Lobb volume with the "hovr Volume" representation in each
+of Stock, First-order, Second-order, Analytic isosurface and Object-order (CPU) integration,
+and writes one image per method; Analytic MIP warns on more than one rank (once), and not on
+one. With --compare-dir (the run under MPI), it also checks that
+  - pvbatch runs on --ranks processes and the Marschner-Lobb source is split between them
+    (rank 0 holds a part of the volume, not all of it);
+  - each method's image matches the one-rank image of --compare-dir: every rank draws its own
+    piece, and ParaView's ordered compositing joins them without seams or doubled opacity;
+  - that tolerance is well below the change a quarter more opacity makes (a piece drawn
+    twice would double it), so a piece composited wrongly cannot pass.
+
+    pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir>
+    mpiexec -n 2 pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir2> \
+        --compare-dir <dir> --ranks 2
+"""
+import argparse
+import os
+
+from paraview.simple import (ColorBy, CreateRenderView, GetColorTransferFunction,
+                             GetOpacityTransferFunction, LoadPlugin, Render, SaveScreenshot,
+                             Show)
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+
+IMAGE_SIZE = [200, 200]
+DIMENSIONS = [48, 48, 48]
+METHODS = ("Stock", "First-order pre-integration", "Second-order pre-integration",
+           "Analytic isosurface", "Object-order ray casting (CPU)")
+# RMS difference of the RGB values (0-255) allowed between the distributed and the one-rank
+# image. Measured on llvmpipe with 2 ranks: 0.3-0.8 for every method, all of it at the
+# volume's silhouette (IceT's compositing of the edge pixels).
+TOLERANCE = 1.5
+UNIT_DISTANCE = 0.2  # of the opacity map, in world units (the volume spans [-1, 1]^3)
+
+
+def parse_arguments():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--plugin", required=True, help="path of the hovr plugin (hovr.so)")
+    parser.add_argument("--output-dir", required=True, help="where the images are written")
+    parser.add_argument("--compare-dir", help="images of a one-rank run to compare with")
+    parser.add_argument("--ranks", type=int, default=1, help="processes expected")
+    return parser.parse_args()
+
+
+def read_rgb(path):
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    return vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(numpy.float64)
+
+
+def rms(a, b):
+    return float(numpy.sqrt(numpy.mean((a - b) ** 2))) if a.shape == b.shape else float("inf")
+
+
+def file_name(method):
+    return "-".join(method.lower().replace("(", "").replace(")", "").split()) + ".png"
+
+
+def main():
+    args = parse_arguments()
+    os.makedirs(args.output_dir, exist_ok=True)
+    failures = []
+
+    def check(condition, message):
+        print(("ok: " if condition else "FAILED: ") + message)
+        if not condition:
+            failures.append(message)
+
+    LoadPlugin(args.plugin, remote=False, ns=globals())
+    ranks = vtkMultiProcessController.GetGlobalController().GetNumberOfProcesses()
+    check(ranks == args.ranks, "pvbatch runs on %d processes (%d)" % (args.ranks, ranks))
+
+    source = globals()["MarschnerLobb"](Dimensions=DIMENSIONS)
+    source.UpdatePipeline()
+    # This script runs on rank 0 (pvbatch's satellites only serve it): its local output is
+    # rank 0's piece.
+    local = source.GetClientSideObject().GetOutputDataObject(0).GetNumberOfPoints()
+    whole = DIMENSIONS[0] * DIMENSIONS[1] * DIMENSIONS[2]
+    if ranks > 1:
+        check(0 < local < whole, "the source is split: rank 0 holds %d of %d points"
+              % (local, whole))
+
+    view = CreateRenderView()
+    view.ViewSize = IMAGE_SIZE
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.BackgroundColorMode = "Single Color"
+    view.Background = [0.0, 0.0, 0.0]
+    view.UseFXAA = 0
+    display = Show(source, view)
+    display.SetRepresentationType("hovr Volume")
+    ColorBy(display, ("POINTS", "MarschnerLobb"))
+    display.IsosurfaceValues = [0.5]  # for Analytic isosurface
+    color = GetColorTransferFunction("MarschnerLobb")
+    color.AutomaticRescaleRangeMode = "Never"
+    color.ColorSpace = "RGB"
+    color.RGBPoints = [0.0, 0.1, 0.3, 0.9, 0.5, 1.0, 0.55, 0.15, 1.0, 1.0, 1.0, 0.9]
+    # Semi-transparent: every piece's samples show through, so a seam or a piece composited
+    # twice would change the image.
+    opacity = GetOpacityTransferFunction("MarschnerLobb")
+    opacity.Points = [0.0, 0.0, 0.5, 0.0, 0.4, 0.0, 0.5, 0.0, 0.6, 0.5, 0.5, 0.0,
+                      1.0, 0.5, 0.5, 0.0]
+    display.ScalarOpacityUnitDistance = UNIT_DISTANCE
+    # The camera after the first render, which resets it. Oblique to the pieces' boundary
+    # planes, so that most rays cross a boundary.
+    Render(view)
+    view.CameraParallelProjection = 1
+    view.CameraPosition = [3.0, -2.2, 1.6]
+    view.CameraFocalPoint = [0.0, 0.0, 0.0]
+    view.CameraViewUp = [0.0, 0.0, 1.0]
+    view.CameraParallelScale = 1.6
+
+    images = {}
+    for method in METHODS:
+        display.HovrIntegration = method
+        Render(view)
+        path = os.path.join(args.output_dir, file_name(method))
+        SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
+        images[method] = read_rgb(path)
+        check(images[method].max() > 100, "%s draws the volume" % method)
+
+    # A maximum cannot be composited front to back: on several ranks Analytic MIP warns,
+    # once. pvbatch holds rank 0's representation in this process: the composite
+    # representation's active one is hovr's.
+    representation = display.GetClientSideObject().GetActiveRepresentation()
+    warnings = []
+
+    def on_warning(_caller, _event, message):
+        warnings.append(message)
+
+    on_warning.CallDataType = "string0"
+    representation.AddObserver("WarningEvent", on_warning)
+    display.HovrIntegration = "Analytic MIP"
+    Render(view)
+    Render(view)
+    display.HovrIntegration = METHODS[0]
+    projection = [w for w in warnings if "Analytic MIP on %d ranks" % ranks in w]
+    check(len(projection) == (1 if ranks > 1 else 0) and len(warnings) == len(projection),
+          "Analytic MIP on %d rank(s): %d warning(s) about compositing the pieces, %d in all"
+          % (ranks, len(projection), len(warnings)))
+
+    if args.compare_dir:
+        for method in METHODS:
+            difference = rms(images[method],
+                             read_rgb(os.path.join(args.compare_dir, file_name(method))))
+            check(difference < TOLERANCE, "%s on %d ranks matches one rank (RMS %.2f < %.2f)"
+                  % (method, ranks, difference, TOLERANCE))
+        # What a wrongly composited piece would do, on a smaller scale: the whole volume's
+        # opacity raised by a quarter (a piece drawn twice doubles it).
+        display.HovrIntegration = METHODS[-1]
+        display.ScalarOpacityUnitDistance = 0.8 * UNIT_DISTANCE
+        Render(view)
+        path = os.path.join(args.output_dir, "denser.png")
+        SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
+        denser = rms(read_rgb(path), images[METHODS[-1]])
+        check(denser > 2.0 * TOLERANCE, "the tolerance is well below the change of a quarter "
+              "more opacity (RMS %.2f)" % denser)
+
+    return failures
+
+
+if __name__ == "__main__":
+    failures = main()
+    if failures:
+        # An exception, not sys.exit, which skips pvbatch's teardown of the OpenGL context.
+        raise RuntimeError("%d check(s) failed: %s" % (len(failures), "; ".join(failures)))
+    print("all checks passed")
