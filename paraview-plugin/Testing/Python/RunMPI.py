@@ -9,7 +9,8 @@ The one-rank run gets `--output-dir <dir>/1`; the MPI run gets `--output-dir <di
 --compare-dir <dir>/1 --ranks <ranks>`. Exits with the first failing run's exit code. Both
 runs inherit the environment (DISPLAY, PYTHONPATH); Open MPI is allowed to run as root and
 to place more ranks than cores (a CI container), through its environment variables, which
-other MPI implementations ignore.
+other MPI implementations ignore. Under Xvfb, start it with -noreset: the MPI run connects
+right after the one-rank run leaves, when a resetting server refuses connections.
 """
 import argparse
 import os

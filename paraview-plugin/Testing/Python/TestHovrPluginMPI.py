@@ -23,10 +23,10 @@ import os
 from paraview.simple import (ColorBy, CreateRenderView, GetColorTransferFunction,
                              GetOpacityTransferFunction, LoadPlugin, Render, SaveScreenshot,
                              Show)
-import numpy
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
+
+# The checker and image helpers of the plugin's main test (this script's directory).
+from TestHovrPlugin import Checker, image_difference, read_rgb
 
 IMAGE_SIZE = [200, 200]
 DIMENSIONS = [48, 48, 48]
@@ -48,18 +48,6 @@ def parse_arguments():
     return parser.parse_args()
 
 
-def read_rgb(path):
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    return vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(numpy.float64)
-
-
-def rms(a, b):
-    return float(numpy.sqrt(numpy.mean((a - b) ** 2))) if a.shape == b.shape else float("inf")
-
-
 def file_name(method):
     return "-".join(method.lower().replace("(", "").replace(")", "").split()) + ".png"
 
@@ -67,12 +55,8 @@ def file_name(method):
 def main():
     args = parse_arguments()
     os.makedirs(args.output_dir, exist_ok=True)
-    failures = []
-
-    def check(condition, message):
-        print(("ok: " if condition else "FAILED: ") + message)
-        if not condition:
-            failures.append(message)
+    checker = Checker()
+    check = checker.check
 
     LoadPlugin(args.plugin, remote=False, ns=globals())
     ranks = vtkMultiProcessController.GetGlobalController().GetNumberOfProcesses()
@@ -124,8 +108,8 @@ def main():
         Render(view)
         path = os.path.join(args.output_dir, file_name(method))
         SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
-        images[method] = read_rgb(path)
-        check(images[method].max() > 100, "%s draws the volume" % method)
+        images[method] = path
+        check(read_rgb(path)[0].max() > 100, "%s draws the volume" % method)
 
     # A maximum cannot be composited front to back: on several ranks Analytic MIP warns,
     # once. pvbatch holds rank 0's representation in this process: the composite
@@ -141,7 +125,6 @@ def main():
     display.HovrIntegration = "Analytic MIP"
     Render(view)
     Render(view)
-    display.HovrIntegration = METHODS[0]
     projection = [w for w in warnings if "Analytic MIP on %d ranks" % ranks in w]
     check(len(projection) == (1 if ranks > 1 else 0) and len(warnings) == len(projection),
           "Analytic MIP on %d rank(s): %d warning(s) about compositing the pieces, %d in all"
@@ -149,8 +132,8 @@ def main():
 
     if args.compare_dir:
         for method in METHODS:
-            difference = rms(images[method],
-                             read_rgb(os.path.join(args.compare_dir, file_name(method))))
+            difference = image_difference(images[method],
+                                          os.path.join(args.compare_dir, file_name(method)))
             check(difference < TOLERANCE, "%s on %d ranks matches one rank (RMS %.2f < %.2f)"
                   % (method, ranks, difference, TOLERANCE))
         # What a wrongly composited piece would do, on a smaller scale: the whole volume's
@@ -160,11 +143,11 @@ def main():
         Render(view)
         path = os.path.join(args.output_dir, "denser.png")
         SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
-        denser = rms(read_rgb(path), images[METHODS[-1]])
+        denser = image_difference(path, images[METHODS[-1]])
         check(denser > 2.0 * TOLERANCE, "the tolerance is well below the change of a quarter "
               "more opacity (RMS %.2f)" % denser)
 
-    return failures
+    return checker.failures
 
 
 if __name__ == "__main__":
