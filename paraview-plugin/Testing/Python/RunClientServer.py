@@ -27,16 +27,21 @@ def free_port():
         return probe.getsockname()[1]
 
 
+def parse_before_script(parser, what):
+    """The parser's arguments before "--", and the command after it (a script and its
+    arguments), from the command line."""
+    argv = sys.argv[1:]
+    if "--" not in argv or argv.index("--") == len(argv) - 1:
+        parser.error("no %s given after --" % what)
+    split = argv.index("--")
+    return parser.parse_args(argv[:split]), argv[split + 1:]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pvserver", required=True, help="the pvserver executable")
     parser.add_argument("--pvpython", required=True, help="the pvpython executable")
-    argv = sys.argv[1:]
-    if "--" not in argv or argv.index("--") == len(argv) - 1:
-        parser.error("no client script given after --")
-    split = argv.index("--")
-    args = parser.parse_args(argv[:split])
-    client = argv[split + 1:]
+    args, client = parse_before_script(parser, "client script")
 
     port = free_port()
     # Without --force-offscreen-rendering pvserver aborts on the X connection under Xvfb.

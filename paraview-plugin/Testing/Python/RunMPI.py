@@ -17,6 +17,8 @@ import os
 import subprocess
 import sys
 
+from RunClientServer import parse_before_script  # (this script's directory)
+
 # Seconds after which a run has hung.
 RUN_TIMEOUT = 600
 
@@ -36,12 +38,7 @@ def main():
     parser.add_argument("--pvbatch", required=True, help="the pvbatch executable")
     parser.add_argument("--ranks", type=int, default=2, help="processes of the MPI run")
     parser.add_argument("--output-dir", required=True, help="where both runs write images")
-    argv = sys.argv[1:]
-    if "--" not in argv or argv.index("--") == len(argv) - 1:
-        parser.error("no test script given after --")
-    split = argv.index("--")
-    args = parser.parse_args(argv[:split])
-    script = argv[split + 1:]
+    args, script = parse_before_script(parser, "test script")
 
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")

@@ -473,10 +473,15 @@ def main():
     return checker.failures
 
 
-if __name__ == "__main__":
+def run(main):
+    """Runs a test's main, which returns its failures; a failure raises."""
     failures = main()
     if failures:
         # An exception rather than sys.exit: pvbatch exits non-zero either way, but sys.exit
         # skips its teardown of the OpenGL context (an X error is printed).
         raise RuntimeError("%d check(s) failed: %s" % (len(failures), "; ".join(failures)))
     print("all checks passed")
+
+
+if __name__ == "__main__":
+    run(main)
