@@ -156,9 +156,23 @@ def compare_with_baseline(checker, image, baseline, what):
                   % (what, error, BASELINE_TOLERANCE, image))
 
 
-def capture(view, path):
+def plain_view(size):
+    """A render view of the given size on black, without orientation axes, FXAA or tone
+    mapping, so that images show only the volume."""
+    view = CreateRenderView()
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.BackgroundColorMode = "Single Color"
+    view.Background = [0.0, 0.0, 0.0]
+    view.UseFXAA = 0
+    view.UseToneMapping = 0
+    return view
+
+
+def capture(view, path, size=IMAGE_SIZE):
     Render(view)
-    SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
+    SaveScreenshot(path, view, ImageResolution=size, TransparentBackground=0)
     return path
 
 
@@ -182,14 +196,7 @@ def main():
     checker.check(list(source.Dimensions) == [41, 41, 41] and source.Frequency == 6 and
                   source.Alpha == 0.25, "Marschner-Lobb defaults are 41^3, f_M = 6, alpha = 0.25")
 
-    view = CreateRenderView()
-    view.ViewSize = IMAGE_SIZE
-    view.OrientationAxesVisibility = 0
-    view.UseColorPaletteForBackground = 0
-    view.BackgroundColorMode = "Single Color"
-    view.Background = [0.0, 0.0, 0.0]
-    view.UseFXAA = 0
-    view.UseToneMapping = 0
+    view = plain_view(IMAGE_SIZE)
 
     display = Show(source, view)
     display.SetRepresentationType("hovr Volume")

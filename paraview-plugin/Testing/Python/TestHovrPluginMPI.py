@@ -20,13 +20,12 @@ one. With --compare-dir (the run under MPI), it also checks that
 import argparse
 import os
 
-from paraview.simple import (ColorBy, CreateRenderView, GetColorTransferFunction,
-                             GetOpacityTransferFunction, LoadPlugin, Render, SaveScreenshot,
-                             Show)
+from paraview.simple import (ColorBy, GetColorTransferFunction, GetOpacityTransferFunction,
+                             LoadPlugin, Render, Show)
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 
 # The checker and image helpers of the plugin's main test (this script's directory).
-from TestHovrPlugin import Checker, image_difference, read_rgb, run
+from TestHovrPlugin import Checker, capture, image_difference, plain_view, read_rgb, run
 
 IMAGE_SIZE = [200, 200]
 DIMENSIONS = [48, 48, 48]
@@ -72,13 +71,7 @@ def main():
         check(0 < local < whole, "the source is split: rank 0 holds %d of %d points"
               % (local, whole))
 
-    view = CreateRenderView()
-    view.ViewSize = IMAGE_SIZE
-    view.OrientationAxesVisibility = 0
-    view.UseColorPaletteForBackground = 0
-    view.BackgroundColorMode = "Single Color"
-    view.Background = [0.0, 0.0, 0.0]
-    view.UseFXAA = 0
+    view = plain_view(IMAGE_SIZE)
     display = Show(source, view)
     display.SetRepresentationType("hovr Volume")
     ColorBy(display, ("POINTS", "MarschnerLobb"))
@@ -105,9 +98,7 @@ def main():
     images = {}
     for method in METHODS:
         display.HovrIntegration = method
-        Render(view)
-        path = os.path.join(args.output_dir, file_name(method))
-        SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
+        path = capture(view, os.path.join(args.output_dir, file_name(method)), IMAGE_SIZE)
         images[method] = path
         check(read_rgb(path)[0].max() > 100, "%s draws the volume" % method)
 
@@ -140,9 +131,7 @@ def main():
         # opacity raised by a quarter (a piece drawn twice doubles it).
         display.HovrIntegration = METHODS[-1]
         display.ScalarOpacityUnitDistance = 0.8 * UNIT_DISTANCE
-        Render(view)
-        path = os.path.join(args.output_dir, "denser.png")
-        SaveScreenshot(path, view, ImageResolution=IMAGE_SIZE, TransparentBackground=0)
+        path = capture(view, os.path.join(args.output_dir, "denser.png"), IMAGE_SIZE)
         denser = image_difference(path, images[METHODS[-1]])
         check(denser > 2.0 * TOLERANCE, "the tolerance is well below the change of a quarter "
               "more opacity (RMS %.2f)" % denser)
