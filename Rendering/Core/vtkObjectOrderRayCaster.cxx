@@ -490,6 +490,13 @@ int HighestBit(uint64_t word)
 #define HOVR_ALWAYS_INLINE inline
 #endif
 
+// The sample loop's common case, so that the compiler lays out its rare cases out of line.
+#if defined(__GNUC__) || defined(__clang__)
+#define HOVR_LIKELY(condition) __builtin_expect(!!(condition), 1)
+#else
+#define HOVR_LIKELY(condition) (condition)
+#endif
+
 // Octahedral bins of unit directions for pre-shading: Bins x Bins of them (8100, about the
 // paper's 8192).
 constexpr int Bins = 90;
