@@ -44,7 +44,8 @@ struct LeafCells
 
 // The cells of a leaf's ray segments: the cell and cell-local coordinates of a segment's
 // point at entry + dt direction. Built once per leaf (its constants), then started at each
-// segment's entry (measured: 3-4% less time per frame than building it per segment). With
+// segment's entry (measured: 5% less time per frame on headsq-opaque, 1% on ml256-opaque,
+// than building it per segment). With
 // SSE2 the three axes take one vector operation each (measured: 6% less time per frame on
 // the semi-transparent cases than the scalar loop); both paths give the same cells and
 // coordinates.
@@ -266,6 +267,7 @@ public:
   bool Removal = true;
   float S0, InvStep, LastEntry;    // the table's mapping, in float for the sample loop
   float SegmentScale, SegmentLast; // the pre-integration table's mapping
+  double PerStep;                  // 1 / step: products per pixel and segment, not divisions
   // After the walk of a tile: the trailing half steps still owed (rays whose last visible
   // sample was followed by transparent cells only); then the tile into the image.
   void Finish()
@@ -369,6 +371,7 @@ public:
     , LastEntry(static_cast<float>(internals.Entries - 1))
     , SegmentScale(static_cast<float>(internals.SegmentInvStep))
     , SegmentLast(static_cast<float>(internals.SegmentEntries - 1))
+    , PerStep(1.0 / internals.Step)
   {
     for (int a = 0; a < 3; ++a)
     {
@@ -541,7 +544,6 @@ public:
     }
     SegmentCells locator(LeafCells(this->Direction, size));
     const double step = I.Step;
-    const double perStep = 1.0 / step; // a product per pixel instead of a division
     const double interleave = I.Interleaved ? 0.5 * step : 0.0; // the odd pixels' phase
     vtkIdType samples = 0; // added to this->Samples at the end (not per sample:
                            // the member may alias the image for the compiler)
@@ -582,7 +584,7 @@ public:
         // The first sample position at or after tin, whatever the product rounds to (a
         // sample exactly on a face belongs to the leaf behind it, and to no other); the
         // truncation is the ceiling or one less (tin - phase > -step).
-        double n = static_cast<double>(static_cast<long long>((tin - phase) * perStep));
+        double n = static_cast<double>(static_cast<long long>((tin - phase) * this->PerStep));
         while (phase + n * step < tin)
         {
           n += 1.0;
@@ -697,8 +699,8 @@ public:
     // The sample indices far enough from the chord's ends that their samples are surely
     // neither its first (t - step < te) nor its last (t + step >= tx), with a margin of a
     // step for rounding: there the loop takes its common case without testing those ends.
-    const double inner[2] = { (te - phase) * (1.0 / step) + 2.0,
-      (tx - phase) * (1.0 / step) - 2.0 };
+    const double inner[2] = { (te - phase) * this->PerStep + 2.0,
+      (tx - phase) * this->PerStep - 2.0 };
     double t = phase + n * step;
     float corners[8], gradients[3][8], lit[2][8];
     int loaded = -1; // the bit of the cell whose shading data are loaded
