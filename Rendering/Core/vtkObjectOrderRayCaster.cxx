@@ -38,6 +38,9 @@
 #define HOVR_SSE2 1
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h> // the AVX2 copy of the sample loop
+#endif
 
 vtkStandardNewMacro(vtkObjectOrderRayCaster);
 vtkCxxSetObjectMacro(vtkObjectOrderRayCaster, VolumeMatrix, vtkMatrix4x4);
@@ -554,10 +557,12 @@ namespace generic
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 #endif
+#define HOVR_WALKER_AVX2 1
 namespace avx2
 {
 #include "vtkObjectOrderRayCasterWalker.txx"
 }
+#undef HOVR_WALKER_AVX2
 #if defined(__clang__)
 #pragma clang attribute pop
 #else
