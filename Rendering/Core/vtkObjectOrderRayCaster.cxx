@@ -500,6 +500,15 @@ int HighestBit(uint64_t word)
 #define HOVR_LIKELY(condition) (condition)
 #endif
 
+// A hint that the cache line at an address will be read soon.
+#if defined(__GNUC__) || defined(__clang__)
+#define HOVR_PREFETCH(address) __builtin_prefetch(address)
+#elif defined(HOVR_SSE2)
+#define HOVR_PREFETCH(address) _mm_prefetch(reinterpret_cast<const char*>(address), _MM_HINT_T0)
+#else
+#define HOVR_PREFETCH(address) ((void)(address))
+#endif
+
 // Octahedral bins of unit directions for pre-shading: Bins x Bins of them (8100, about the
 // paper's 8192).
 constexpr int Bins = 90;
