@@ -610,89 +610,106 @@ public:
     const double interleave = I.Interleaved ? 0.5 * step : 0.0; // the odd pixels' phase
     vtkIdType samples = 0; // added to this->Samples at the end (not per sample:
                            // the member may alias the image for the compiler)
-    for (int py = rect[2]; py <= rect[3]; ++py)
+    // A pixel ray's part [tin, tout) of the leaf, from its sample phase + n step on; entry:
+    // the ray at tin, leaf-local. Sampled now, or (AVX2, unshaded) queued for eight lanes.
+    auto sample = [&](int px, int py, double phase, double n, double tin, double tout,
+                    const float entry[3])
     {
-      const double row[3] = { I.O[0] + py * I.EY[0], I.O[1] + py * I.EY[1], I.O[2] + py * I.EY[2] };
-      for (int px = rect[0]; px <= rect[1]; ++px)
+      const int lx = px - this->Clip[0], ly = py - this->Clip[2];
+      PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
+#ifdef HOVR_WALKER_AVX2
+      if (Shading == 0)
       {
-        const int lx = px - this->Clip[0], ly = py - this->Clip[2];
-        if (this->Occlusion.IsPixelOpaque(lx, ly))
-        {
-          continue;
-        }
-        double o[3];
-        double tin = 0.0, tout = std::numeric_limits<double>::infinity();
-        bool inside = true;
+        const int l = lanes.Count++;
+        lanes.Phase[l] = phase;
+        lanes.N[l] = n;
+        lanes.Tin[l] = tin;
+        lanes.Tout[l] = tout;
         for (int a = 0; a < 3; ++a)
         {
-          o[a] = row[a] + px * I.EX[a];
-          if (I.Still[a])
+          lanes.Entry[a][l] = entry[a];
+        }
+        lanes.States[l] = &state;
+        lanes.Pixels[l][0] = lx;
+        lanes.Pixels[l][1] = ly;
+        if (lanes.Count == 8)
+        {
+          this->RunLanes<Preintegrated>(lanes, laneCells, leaf, samples);
+        }
+        return;
+      }
+#endif
+      if (this->Segment<Preintegrated, Shading>(
+            state, phase, n, tin, tout, entry, locator, lo, leaf, samples))
+      {
+        this->Occlusion.SetPixelOpaque(lx, ly);
+      }
+    };
+#ifdef HOVR_WALKER_AVX2
+    if (!I.Still[0] && !I.Still[1] && !I.Still[2])
+    {
+      this->VectorRays(rect, lo, nearPlane, farPlane, interleave, sample);
+    }
+    else
+#endif
+    {
+      for (int py = rect[2]; py <= rect[3]; ++py)
+      {
+        const double row[3] = { I.O[0] + py * I.EY[0], I.O[1] + py * I.EY[1],
+          I.O[2] + py * I.EY[2] };
+        for (int px = rect[0]; px <= rect[1]; ++px)
+        {
+          if (this->Occlusion.IsPixelOpaque(px - this->Clip[0], py - this->Clip[2]))
           {
-            // A ray in a cell plane belongs to the cell above it (the last cell keeps its
-            // far face), so no sample is taken twice.
-            inside = inside && o[a] >= lo[a] &&
-              (o[a] < far[a] || (far[a] == I.Cells[a] && o[a] <= far[a]));
             continue;
           }
-          // The same expression for a plane in both leaves that share it: equal t.
-          tin = std::max(tin, (nearPlane[a] - o[a]) * I.InvD[a]);
-          tout = std::min(tout, (farPlane[a] - o[a]) * I.InvD[a]);
-        }
-        if (!inside || !(tin < tout))
-        {
-          continue;
-        }
-        // (A product, not a branch: the checkerboard alternates every pixel.)
-        const double phase = ((px + py) & 1) * interleave;
-        // The first sample position at or after tin, whatever the product rounds to (a
-        // sample exactly on a face belongs to the leaf behind it, and to no other); the
-        // truncation is the ceiling or one less (tin - phase > -step).
-        double n = static_cast<double>(static_cast<long long>((tin - phase) * this->PerStep));
-        while (phase + n * step < tin)
-        {
-          n += 1.0;
-        }
-        while (phase + (n - 1.0) * step >= tin)
-        {
-          n -= 1.0;
-        }
-        if (!(phase + n * step < tout))
-        {
-          continue;
-        }
-        // Leaf-local coordinates in float, where they are small: the ray at tin.
-        float entry[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          entry[a] = static_cast<float>(o[a] + tin * I.D[a] - lo[a]);
-        }
-        PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
-#ifdef HOVR_WALKER_AVX2
-        if (Shading == 0)
-        {
-          const int l = lanes.Count++;
-          lanes.Phase[l] = phase;
-          lanes.N[l] = n;
-          lanes.Tin[l] = tin;
-          lanes.Tout[l] = tout;
+          double o[3];
+          double tin = 0.0, tout = std::numeric_limits<double>::infinity();
+          bool inside = true;
           for (int a = 0; a < 3; ++a)
           {
-            lanes.Entry[a][l] = entry[a];
+            o[a] = row[a] + px * I.EX[a];
+            if (I.Still[a])
+            {
+              // A ray in a cell plane belongs to the cell above it (the last cell keeps its
+              // far face), so no sample is taken twice.
+              inside = inside && o[a] >= lo[a] &&
+                (o[a] < far[a] || (far[a] == I.Cells[a] && o[a] <= far[a]));
+              continue;
+            }
+            // The same expression for a plane in both leaves that share it: equal t.
+            tin = std::max(tin, (nearPlane[a] - o[a]) * I.InvD[a]);
+            tout = std::min(tout, (farPlane[a] - o[a]) * I.InvD[a]);
           }
-          lanes.States[l] = &state;
-          lanes.Pixels[l][0] = lx;
-          lanes.Pixels[l][1] = ly;
-          if (lanes.Count == 8)
+          if (!inside || !(tin < tout))
           {
-            this->RunLanes<Preintegrated>(lanes, laneCells, leaf, samples);
+            continue;
           }
-          continue;
-        }
-#endif
-        if (this->Segment<Preintegrated, Shading>(
-              state, phase, n, tin, tout, entry, locator, lo, leaf, samples))
-        {
-          this->Occlusion.SetPixelOpaque(lx, ly);
+          // (A product, not a branch: the checkerboard alternates every pixel.)
+          const double phase = ((px + py) & 1) * interleave;
+          // The first sample position at or after tin, whatever the product rounds to (a
+          // sample exactly on a face belongs to the leaf behind it, and to no other); the
+          // truncation is the ceiling or one less (tin - phase > -step).
+          double n = static_cast<double>(static_cast<long long>((tin - phase) * this->PerStep));
+          while (phase + n * step < tin)
+          {
+            n += 1.0;
+          }
+          while (phase + (n - 1.0) * step >= tin)
+          {
+            n -= 1.0;
+          }
+          if (!(phase + n * step < tout))
+          {
+            continue;
+          }
+          // Leaf-local coordinates in float, where they are small: the ray at tin.
+          float entry[3];
+          for (int a = 0; a < 3; ++a)
+          {
+            entry[a] = static_cast<float>(o[a] + tin * I.D[a] - lo[a]);
+          }
+          sample(px, py, phase, n, tin, tout, entry);
         }
       }
     }
@@ -705,6 +722,127 @@ public:
     this->Samples += samples;
     leaf.Flush(I);
   }
+
+#ifdef HOVR_WALKER_AVX2
+  // Leaf's pixel rays four at a time, for views along no grid plane: per ray the same
+  // operations as Leaf's loop (fused where this copy fuses them), so the same segments,
+  // passed to sample in the same order.
+  template <typename Sample>
+  HOVR_ALWAYS_INLINE void VectorRays(const int rect[4],
+    const int lo[3],
+    const double nearPlane[3],
+    const double farPlane[3],
+    double interleave,
+    Sample& sample) const
+  {
+    const auto& I = this->I;
+    const __m256d step = _mm256_set1_pd(I.Step), perStep = _mm256_set1_pd(this->PerStep);
+    const __m256d one = _mm256_set1_pd(1.0);
+    const __m256d infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+    const __m256d offsets = _mm256_setr_pd(0.0, 1.0, 2.0, 3.0);
+    // The checkerboard's phases of four pixels from an even and from an odd one.
+    const __m256d phases[2] = { _mm256_setr_pd(0.0, interleave, 0.0, interleave),
+      _mm256_setr_pd(interleave, 0.0, interleave, 0.0) };
+    __m256d nearP[3], farP[3], invD[3], ex[3], d[3], low[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      nearP[a] = _mm256_set1_pd(nearPlane[a]);
+      farP[a] = _mm256_set1_pd(farPlane[a]);
+      invD[a] = _mm256_set1_pd(I.InvD[a]);
+      ex[a] = _mm256_set1_pd(I.EX[a]);
+      d[a] = _mm256_set1_pd(I.D[a]);
+      low[a] = _mm256_set1_pd(lo[a]);
+    }
+    alignas(32) double tins[4], touts[4], ns[4], phaseOf[4];
+    alignas(16) float entries[3][4];
+    for (int py = rect[2]; py <= rect[3]; ++py)
+    {
+      const int ly = py - this->Clip[2];
+      __m256d row[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        row[a] = _mm256_set1_pd(I.O[a] + py * I.EY[a]);
+      }
+      for (int px0 = rect[0]; px0 <= rect[1]; px0 += 4)
+      {
+        unsigned todo = 0;
+        for (int l = 0; l < 4 && px0 + l <= rect[1]; ++l)
+        {
+          todo |= this->Occlusion.IsPixelOpaque(px0 + l - this->Clip[0], ly) ? 0u : 1u << l;
+        }
+        if (!todo)
+        {
+          continue;
+        }
+        const __m256d px = _mm256_add_pd(_mm256_set1_pd(px0), offsets);
+        __m256d o[3];
+        __m256d tin = _mm256_setzero_pd(), tout = infinity;
+        for (int a = 0; a < 3; ++a)
+        {
+          o[a] = _mm256_fmadd_pd(px, ex[a], row[a]);
+          // std::max(tin, x) and std::min(tout, x), as Leaf's loop.
+          tin = _mm256_max_pd(_mm256_mul_pd(_mm256_sub_pd(nearP[a], o[a]), invD[a]), tin);
+          tout = _mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(farP[a], o[a]), invD[a]), tout);
+        }
+        todo &= static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(tin, tout, _CMP_LT_OQ)));
+        if (!todo)
+        {
+          continue;
+        }
+        const __m256d phase = phases[(px0 + py) & 1];
+        const __m256d lanes = _mm256_castsi256_pd(_mm256_cmpgt_epi64(
+          _mm256_and_si256(_mm256_set1_epi64x(todo), _mm256_setr_epi64x(1, 2, 4, 8)),
+          _mm256_setzero_si256()));
+        __m256d n = _mm256_round_pd(_mm256_mul_pd(_mm256_sub_pd(tin, phase), perStep),
+          _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+        for (;;)
+        {
+          const __m256d up =
+            _mm256_and_pd(_mm256_cmp_pd(_mm256_fmadd_pd(n, step, phase), tin, _CMP_LT_OQ), lanes);
+          if (_mm256_testz_pd(up, up))
+          {
+            break;
+          }
+          n = _mm256_add_pd(n, _mm256_and_pd(up, one));
+        }
+        for (;;)
+        {
+          const __m256d down = _mm256_and_pd(
+            _mm256_cmp_pd(_mm256_fmadd_pd(_mm256_sub_pd(n, one), step, phase), tin, _CMP_GE_OQ),
+            lanes);
+          if (_mm256_testz_pd(down, down))
+          {
+            break;
+          }
+          n = _mm256_sub_pd(n, _mm256_and_pd(down, one));
+        }
+        todo &= static_cast<unsigned>(
+          _mm256_movemask_pd(_mm256_cmp_pd(_mm256_fmadd_pd(n, step, phase), tout, _CMP_LT_OQ)));
+        if (!todo)
+        {
+          continue;
+        }
+        for (int a = 0; a < 3; ++a)
+        {
+          _mm_store_ps(
+            entries[a], _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_fmadd_pd(tin, d[a], o[a]), low[a])));
+        }
+        _mm256_store_pd(tins, tin);
+        _mm256_store_pd(touts, tout);
+        _mm256_store_pd(ns, n);
+        _mm256_store_pd(phaseOf, phase);
+        do
+        {
+          const int l = __builtin_ctz(todo);
+          todo &= todo - 1;
+          const float entry[3] = { entries[0][l], entries[1][l], entries[2][l] };
+          sample(px0 + l, py, phaseOf[l], ns[l], tins[l], touts[l], entry);
+        } while (todo);
+      }
+    }
+  }
+
+#endif
 
 #ifdef HOVR_WALKER_AVX2
   // Up to eight pixel rays of a leaf, sampled together (below).
