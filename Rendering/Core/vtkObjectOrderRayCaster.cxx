@@ -103,7 +103,7 @@ public:
   double Step = 1.0;
   bool Interleaved = true;
   bool Removal = true;
-  float Threshold = 0.999f;
+  float Threshold = 0.996f;
   // Classification: RGBA per entry (alpha for one step), entries at S0 + e / InvStep.
   std::vector<float> Table;
   int Entries = 0;

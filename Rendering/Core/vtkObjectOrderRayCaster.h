@@ -103,7 +103,12 @@ public:
   ///@{
   /**
    * A pixel whose alpha reaches this value takes no more samples (early ray termination,
-   * object-order). Initial value is 0.999.
+   * object-order). Initial value is 0.996: the rest of the ray can then add at most 0.4% of
+   * full intensity, about one 8-bit display level, as where VTK's GPU ray caster stops
+   * (1 - 1/255; vtkFixedPointVolumeRayCastMapper stops at about 0.992). Measured against
+   * 0.999 on the bench: 5-6% less time per frame on ml256-opaque, RMSE 0.01430 against
+   * 0.01427 (headsq-opaque 0.0048 against 0.0046). Raise it towards 1 where float images
+   * must follow rays further.
    */
   vtkSetClampMacro(OpacityThreshold, double, 1e-3, 1.0);
   vtkGetMacro(OpacityThreshold, double);
@@ -274,7 +279,7 @@ protected:
   double SampleDistance = 1.0;
   bool InterleavedSampling = true;
   bool HiddenVolumeRemoval = true;
-  double OpacityThreshold = 0.999;
+  double OpacityThreshold = 0.996;
   int TileSize = 32;
   int LeafSize = 8;
   int InstructionSet = INSTRUCTIONS_AUTOMATIC;

@@ -248,10 +248,12 @@ solid = spikes(1.0)
 solid.GetScalarOpacity().RemoveAllPoints()
 solid.GetScalarOpacity().AddPoint(0.0, 1.0)
 solid.GetScalarOpacity().AddPoint(1.0, 1.0)
-full = pixels(caster(ml, solid, camera, 0.05))
-covered = reference(ml, solid, camera)[:, 3] > 0.999
-c.check(covered.any() and (full[covered, 3] >= 0.999).all() and
-        (full[~covered, 3] < 0.999).all(), "fully opaque: exactly the silhouette is opaque")
+solid_caster = caster(ml, solid, camera, 0.05)
+full = pixels(solid_caster)
+threshold = solid_caster.GetOpacityThreshold()
+covered = reference(ml, solid, camera)[:, 3] > threshold
+c.check(covered.any() and (full[covered, 3] >= threshold).all() and
+        (full[~covered, 3] < threshold).all(), "fully opaque: exactly the silhouette is opaque")
 
 # NaN voxels: transparent cells, a finite image.
 holes = vtkImageData()

@@ -126,7 +126,7 @@ public:
    * ObjectOrderShading (ShadingModes, used when Shade is on; initial value POST_SHADING),
    * InterleavedSampling (initial value true), HiddenVolumeRemoval (initial value true; the
    * image is the same either way), OpacityThreshold (early ray termination, initial value
-   * 0.999), LeafSize (cells per edge of the octree's leaves, initial value 8) and
+   * 0.996), LeafSize (cells per edge of the octree's leaves, initial value 8) and
    * InstructionSet (the compiled copy of the sample loop, InstructionSets, initial value
    * INSTRUCTIONS_AUTOMATIC). The initial values are the caster's own.
    */

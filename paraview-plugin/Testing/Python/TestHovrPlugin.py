@@ -129,7 +129,7 @@ def expected_table_bytes(size, dimensions, precision):
 CPU_PROPERTIES = ("HovrCPUClassification", "HovrCPUShading", "HovrInterleavedSampling",
                   "HovrHiddenVolumeRemoval", "HovrOpacityThreshold", "HovrLeafSize",
                   "HovrInstructionSet")
-CPU_DEFAULTS = ("Pre-integrated", "Post-shading", 1, 1, 0.999, 8, "Automatic")
+CPU_DEFAULTS = ("Pre-integrated", "Post-shading", 1, 1, 0.996, 8, "Automatic")
 
 
 def mapper_setting(mapper, name):
