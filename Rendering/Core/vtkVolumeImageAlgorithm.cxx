@@ -120,7 +120,7 @@ int vtkVolumeImageAlgorithm::RequestUpdateExtent(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output)
+vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output, bool clear)
 {
   const int* size = this->RayModel->GetImageSize();
   const int width = std::max(size[0], 1), height = std::max(size[1], 1);
@@ -129,7 +129,10 @@ vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output)
   rgba->SetName("RGBA");
   rgba->SetNumberOfComponents(4);
   rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
-  rgba->FillValue(0.0f);
+  if (clear)
+  {
+    rgba->FillValue(0.0f);
+  }
   output->GetPointData()->SetScalars(rgba);
   return rgba;
 }

@@ -66,8 +66,9 @@ protected:
 
   /**
    * Size the output to the image size with a transparent "RGBA" array, and return that array.
+   * With clear false its values are left uninitialized, for the caller to write every one.
    */
-  vtkFloatArray* InitializeOutput(vtkImageData* output);
+  vtkFloatArray* InitializeOutput(vtkImageData* output, bool clear = true);
 
   /**
    * The input's scalars to render, after checking them and preparing the sampler and the
