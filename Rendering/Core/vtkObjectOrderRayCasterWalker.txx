@@ -611,8 +611,8 @@ public:
       PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
       if (state.Chord[0] != state.Chord[0])
       {
-        // (Measured: 0.5 ms less per frame on ml256-opaque than finding every chord of the
-        // tile before its walk.)
+        // (Rather than every chord of the tile before its walk; measured on a fully
+        // transparent ml256 frame, 512 x 512, 2 threads: 0.72 ms instead of 0.97.)
         I.Chord(px, py, state.Chord[0], state.Chord[1]);
       }
 #ifdef HOVR_WALKER_AVX2
