@@ -951,18 +951,28 @@ public:
         const __m256i row = _mm256_add_epi32(c[1], _mm256_add_epi32(_mm256_slli_epi32(c[2], 3), c[2]));
         const __m256i point =
           _mm256_add_epi32(c[0], _mm256_add_epi32(_mm256_slli_epi32(row, 3), row));
-        // The corners in pairs along x (a 64-bit gather each, half the loads of gathering
-        // them one by one): 4 rows (y, z) for lanes 0-3 and 4 for lanes 4-7, split into the
-        // corners of lanes 0 1 4 5 2 3 6 7 (the 64-bit pairs' order), in which the trilinear
-        // interpolation runs.
-        const __m128i pointLow = _mm256_castsi256_si128(point);
-        const __m128i pointHigh = _mm256_extracti128_si256(point, 1);
+        // The corners in pairs along x (a 64-bit load each, half the loads of loading them
+        // one by one): 4 rows (y, z) for lanes 0-3 and 4 for lanes 4-7, split into the
+        // corners of lanes 0 1 4 5 2 3 6 7 (the pairs' order), in which the trilinear
+        // interpolation runs. Loads and shuffles rather than AVX2 gathers, which took 2.5
+        // times as long on the AMD EPYC (Zen 5) this was measured on.
+        alignas(32) int pointOf[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(pointOf), point);
         __m256 v[8];
         for (int r = 0; r < 4; ++r)
         {
-          const double* pairs = reinterpret_cast<const double*>(points + (r & 1) * P + (r >> 1) * PP);
-          const __m256 low = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, pointLow, 4));
-          const __m256 high = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, pointHigh, 4));
+          const float* row = points + (r & 1) * P + (r >> 1) * PP;
+          // Lanes l..l+3's pairs.
+          auto pairs = [row, &pointOf](int l)
+          {
+            const auto pair = [row, &pointOf](int k)
+            { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + pointOf[k])); };
+            return _mm256_castsi256_ps(
+              _mm256_set_m128i(_mm_unpacklo_epi64(pair(l + 2), pair(l + 3)),
+                _mm_unpacklo_epi64(pair(l), pair(l + 1))));
+          };
+          const __m256 low = pairs(0);
+          const __m256 high = pairs(4);
           v[2 * r] = _mm256_shuffle_ps(low, high, _MM_SHUFFLE(2, 0, 2, 0));
           v[2 * r + 1] = _mm256_shuffle_ps(low, high, _MM_SHUFFLE(3, 1, 3, 1));
         }
