@@ -121,6 +121,16 @@ private:
 };
 
 #ifdef HOVR_WALKER_AVX2
+// The pairs of floats at base + offsets[k], k = 0 to 3, in one vector (a 64-bit load each).
+HOVR_ALWAYS_INLINE __m256 LoadPairs(const float* base, const int offsets[4])
+{
+  const auto pair = [base](int offset)
+  { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(base + offset)); };
+  return _mm256_castsi256_ps(
+    _mm256_set_m128i(_mm_unpacklo_epi64(pair(offsets[2]), pair(offsets[3])),
+      _mm_unpacklo_epi64(pair(offsets[0]), pair(offsets[1]))));
+}
+
 // SegmentCells for eight positions at once, of eight rays (the AVX2 lanes of
 // TileWalker::RunLanes): the same operations, fused where the AVX2 copy fuses SegmentCells'.
 // Built once per leaf.
@@ -961,18 +971,9 @@ public:
         __m256 v[8];
         for (int r = 0; r < 4; ++r)
         {
-          const float* row = points + (r & 1) * P + (r >> 1) * PP;
-          // Lanes l..l+3's pairs.
-          auto pairs = [row, &pointOf](int l)
-          {
-            const auto pair = [row, &pointOf](int k)
-            { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + pointOf[k])); };
-            return _mm256_castsi256_ps(
-              _mm256_set_m128i(_mm_unpacklo_epi64(pair(l + 2), pair(l + 3)),
-                _mm_unpacklo_epi64(pair(l), pair(l + 1))));
-          };
-          const __m256 low = pairs(0);
-          const __m256 high = pairs(4);
+          const float* corners = points + (r & 1) * P + (r >> 1) * PP;
+          const __m256 low = LoadPairs(corners, pointOf);
+          const __m256 high = LoadPairs(corners, pointOf + 4);
           v[2 * r] = _mm256_shuffle_ps(low, high, _MM_SHUFFLE(2, 0, 2, 0));
           v[2 * r + 1] = _mm256_shuffle_ps(low, high, _MM_SHUFFLE(3, 1, 3, 1));
         }
