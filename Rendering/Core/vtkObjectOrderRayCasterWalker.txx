@@ -868,7 +868,7 @@ public:
 
   // The segments of up to eight pixel rays through a leaf (unshaded), one AVX2 lane each,
   // in step: each round finds the next sample position of every ray, its cell and whether
-  // it is visible, gathers the 8 corners and interpolates, and places the scalars in the
+  // it is visible, loads the 8 corners and interpolates, and places the scalars in the
   // segment table, eight at a time; then the rays that took a sample composite it, one after
   // the other (Take), in their own order. The operations per lane are Segment's, the same
   // float operations in the same order (fused where the AVX2 copy of Segment fuses them), so
