@@ -668,6 +668,16 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
       "The sample distance must be positive and finite, got " << this->SampleDistance << ".");
     return 1;
   }
+  const double diagonal = input->GetLength(); // of the bounds
+  if (diagonal / this->SampleDistance > this->MaximumSamplesPerRay)
+  {
+    vtkErrorMacro("The sample distance " << this->SampleDistance << " takes "
+                                         << diagonal / this->SampleDistance
+                                         << " samples along the volume's diagonal, more than "
+                                         << this->MaximumSamplesPerRay
+                                         << " (MaximumSamplesPerRay).");
+    return 1;
+  }
   if (!this->GetCamera()->GetParallelProjection())
   {
     vtkErrorMacro("Object-order ray casting needs a parallel projection (every cell projects "
@@ -928,40 +938,55 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   I.LeafLevel = std::min(leafLevel, this->Octree->GetNumberOfLevels());
   vtkSMPThreadLocal<vtkIdType> nodes(0), samples(0);
   float* image = rgba->GetPointer(0);
+  // A frame expected to take many samples (every pixel of the volume's rectangle through the
+  // whole diagonal) is walked in parts, with progress in between: progress events come from
+  // this thread only.
+  const vtkIdType tiles = static_cast<vtkIdType>(tilesX) * tilesY;
+  const double expectedSamples = (I.VolumePixels[1] - I.VolumePixels[0] + 1.0) *
+    (I.VolumePixels[3] - I.VolumePixels[2] + 1.0) * diagonal / this->SampleDistance;
+  const vtkIdType parts = expectedSamples > (1 << 28) ? std::min<vtkIdType>(tiles, 20) : 1;
   auto walk = [&](auto* walkerType)
   {
     using Walker = typename std::remove_pointer<decltype(walkerType)>::type;
-    vtkSMPTools::For(0,
-      static_cast<vtkIdType>(tilesX) * tilesY,
-      1,
-      [&](vtkIdType t0, vtkIdType t1)
-      {
-        Walker walker(I, this->Octree);
-        walker.Image = image;
-        for (vtkIdType t = t0; t < t1; ++t)
+    for (vtkIdType part = 0; part < parts; ++part)
+    {
+      vtkSMPTools::For(part * tiles / parts,
+        (part + 1) * tiles / parts,
+        1,
+        [&](vtkIdType t0, vtkIdType t1)
         {
-          const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);
-          const int clip[4] = { tx * tile,
-            std::min((tx + 1) * tile, I.Width) - 1,
-            ty * tile,
-            std::min((ty + 1) * tile, I.Height) - 1 };
-          if (clip[1] >= I.VolumePixels[0] && clip[0] <= I.VolumePixels[1] &&
-            clip[3] >= I.VolumePixels[2] && clip[2] <= I.VolumePixels[3])
+          Walker walker(I, this->Octree);
+          walker.Image = image;
+          for (vtkIdType t = t0; t < t1; ++t)
           {
-            walker.Walk(clip); // writes every pixel of the tile
-          }
-          else
-          {
-            for (int py = clip[2]; py <= clip[3]; ++py)
+            const int tx = static_cast<int>(t % tilesX), ty = static_cast<int>(t / tilesX);
+            const int clip[4] = { tx * tile,
+              std::min((tx + 1) * tile, I.Width) - 1,
+              ty * tile,
+              std::min((ty + 1) * tile, I.Height) - 1 };
+            if (!this->AbortExecute && clip[1] >= I.VolumePixels[0] &&
+              clip[0] <= I.VolumePixels[1] && clip[3] >= I.VolumePixels[2] &&
+              clip[2] <= I.VolumePixels[3])
             {
-              float* row = image + 4 * (static_cast<size_t>(I.Width) * py + clip[0]);
-              std::fill(row, row + 4 * (clip[1] - clip[0] + 1), 0.0f);
+              walker.Walk(clip); // writes every pixel of the tile
+            }
+            else
+            {
+              for (int py = clip[2]; py <= clip[3]; ++py)
+              {
+                float* row = image + 4 * (static_cast<size_t>(I.Width) * py + clip[0]);
+                std::fill(row, row + 4 * (clip[1] - clip[0] + 1), 0.0f);
+              }
             }
           }
-        }
-        nodes.Local() += walker.Nodes;
-        samples.Local() += walker.Samples;
-      });
+          nodes.Local() += walker.Nodes;
+          samples.Local() += walker.Samples;
+        });
+      if (parts > 1)
+      {
+        this->UpdateProgress(0.1 + 0.9 * static_cast<double>(part + 1) / parts);
+      }
+    }
   };
   clearImage.Walked = true;
   this->LastInstructionSet =

@@ -114,6 +114,18 @@ public:
   vtkGetMacro(OpacityThreshold, double);
   ///@}
 
+  ///@{
+  /**
+   * The most samples a ray may take across the volume's diagonal at the sample distance; a
+   * finer sample distance is an error (empty image) instead of a frame of hours. Frames
+   * expected to take more than about 2^28 samples are walked in parts, with a progress event
+   * after each; AbortExecute stops a frame at the next tile, leaving the tiles not walked
+   * transparent. Initial value is 100000.
+   */
+  vtkSetClampMacro(MaximumSamplesPerRay, double, 1.0, 1e9);
+  vtkGetMacro(MaximumSamplesPerRay, double);
+  ///@}
+
   enum Classifications
   {
     POINT_SAMPLED = 0, ///< each sample's colour and opacity (the paper's)
@@ -280,6 +292,7 @@ protected:
   bool InterleavedSampling = true;
   bool HiddenVolumeRemoval = true;
   double OpacityThreshold = 0.996;
+  double MaximumSamplesPerRay = 1e5;
   int TileSize = 32;
   int LeafSize = 8;
   int InstructionSet = INSTRUCTIONS_AUTOMATIC;

@@ -1,12 +1,14 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderPass.h"
+#include "vtkPointData.h"
 #include "vtkShaderProgram.h"
 #include "vtkVolume.h"
 
@@ -75,6 +77,7 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
 {
   this->Hook->Mapper = nullptr;
   this->Hook->Delete();
+  this->SetTextureScalars(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -102,6 +105,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   {
     return;
   }
+  this->PlaceTextureScalars(plan == DrawWithExtension ? this->TextureScalars : nullptr);
   if (plan == DrawStock)
   {
     this->Superclass::GPURender(ren, vol);
@@ -128,6 +132,46 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   if (passes->Length(keys) == 0)
   {
     keys->Remove(passes);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::SetTextureScalars(vtkDataArray* scalars)
+{
+  vtkSetObjectBodyMacro(TextureScalars, vtkDataArray, scalars);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::PlaceTextureScalars(vtkDataArray* scalars)
+{
+  // vtkGPUVolumeRayCastMapper renders a shallow copy of the input that it makes again only
+  // when the input changes; VTK's upload check (UpdateInputs) compares the array it finds
+  // there with the one it uploaded last, so swapping it costs one upload, once.
+  vtkImageData* copy = vtkImageData::SafeDownCast(this->GetTransformedInput(0));
+  vtkDataSet* input = this->GetInput();
+  if (!copy || !input)
+  {
+    return;
+  }
+  int cellFlag = 0, inputCellFlag = 0;
+  vtkDataArray* current = vtkAbstractMapper::GetScalars(
+    copy, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  vtkDataArray* own = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, inputCellFlag);
+  vtkDataArray* wanted = scalars ? scalars : own;
+  if (!current || !wanted || current == wanted || cellFlag != inputCellFlag)
+  {
+    return;
+  }
+  vtkDataSetAttributes* attributes =
+    cellFlag == 1 ? static_cast<vtkDataSetAttributes*>(copy->GetCellData()) : copy->GetPointData();
+  if (attributes->GetScalars() == current)
+  {
+    attributes->SetScalars(wanted);
+  }
+  else
+  {
+    attributes->AddArray(wanted); // replaces the array of the same name
   }
 }
 

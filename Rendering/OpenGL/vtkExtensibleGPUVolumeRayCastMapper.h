@@ -122,11 +122,25 @@ protected:
   ///@}
 
   /**
+   * Scalars for VTK to upload as the volume texture instead of the input's own, from this
+   * frame's PrepareExtension() on (nullptr, the initial value: the input's own). They must
+   * have the input scalars' tuples and name; only the texture changes (for example a 16-bit
+   * copy of 8-bit data for more interpolation precision), and it is uploaded again only when
+   * this array changes. Frames drawn by the stock path always upload the input's own.
+   */
+  void SetTextureScalars(vtkDataArray* scalars);
+  vtkDataArray* GetTextureScalars() { return this->TextureScalars; }
+
+  /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
    */
   void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
 
   void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  // Puts `scalars` (nullptr: the input's own) where VTK's ray caster reads the array to
+  // upload: in its copy of the input, GetTransformedInput().
+  void PlaceTextureScalars(vtkDataArray* scalars);
 
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
@@ -139,6 +153,7 @@ private:
 
   friend class vtkGPURayCastShaderHook;
   vtkGPURayCastShaderHook* Hook;
+  vtkDataArray* TextureScalars = nullptr;
 };
 
 #endif

@@ -5,11 +5,13 @@
 #include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRenderer.h"
+#include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
@@ -25,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 
 vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 
@@ -67,6 +70,10 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
+  if (this->ScalarsCopy)
+  {
+    this->ScalarsCopy->Delete();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -199,6 +206,19 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     return plan;
   }
+  double bounds[6];
+  vtkImageData::SafeDownCast(this->GetInput())->GetBounds(bounds);
+  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
+  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
+  const double samples = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)) / this->SampleDistance;
+  if (samples > this->MaximumSamplesPerRay)
+  {
+    vtkErrorMacro("The sample distance " << this->SampleDistance << " takes " << samples
+                                         << " samples along the volume's diagonal, more than "
+                                         << this->MaximumSamplesPerRay
+                                         << " (MaximumSamplesPerRay); not drawing.");
+    return DrawNothing;
+  }
   if (const char* reason = this->GetStockFallbackReason(vol, scalars))
   {
     this->WarnFallbackOnce(reason);
@@ -208,9 +228,15 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 
   double range[2];
   scalars->GetFiniteRange(range, 0);
+  if (!(range[0] <= range[1]))
+  {
+    vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
+    return DrawNothing;
+  }
   if (!(range[1] > range[0]))
   {
-    range[1] = range[0] + 1.0; // flat data: any non-empty range holds its one value
+    // Flat data: any non-empty range holds its one value; 1 alone vanishes next to 1e20.
+    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
   }
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkPreIntegrationTable* table = this->GetActiveTable();
@@ -272,13 +298,167 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     return DrawNothing;
   }
 
-  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
+  // raw texture value -> uploaded value -> data value -> table texture coordinate (entries at
+  // texel centres).
+  double toData, dataShift;
+  vtkDataArray* uploaded = this->ChooseTextureScalars(scalars, toData, dataShift);
   double scale, shift;
-  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(scalars, scale, shift);
+  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(uploaded, scale, shift);
+  scale *= toData;
+  shift = shift * toData + dataShift;
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
   this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
   return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+// Copies 8- or 16-bit integers into 16-bit unsigned integers v' = (v - lowest) * factor or
+// into floats v' = v: exact either way.
+template <typename Out>
+struct ScalarsCopier
+{
+  vtkDataArray* In;
+  Out* Values;
+  double Lowest, Factor;
+  template <typename In>
+  void Copy(const In* in, vtkIdType begin, vtkIdType end) const
+  {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Values[i] =
+        static_cast<Out>((static_cast<double>(in[i]) - this->Lowest) * this->Factor);
+    }
+  }
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    void* raw = this->In->GetVoidPointer(0);
+    switch (this->In->GetDataType())
+    {
+      case VTK_UNSIGNED_CHAR:
+        this->Copy(static_cast<const unsigned char*>(raw), begin, end);
+        break;
+      case VTK_SIGNED_CHAR:
+        this->Copy(static_cast<const signed char*>(raw), begin, end);
+        break;
+      case VTK_CHAR:
+        this->Copy(static_cast<const char*>(raw), begin, end);
+        break;
+      case VTK_SHORT:
+        this->Copy(static_cast<const short*>(raw), begin, end);
+        break;
+      case VTK_UNSIGNED_SHORT:
+        this->Copy(static_cast<const unsigned short*>(raw), begin, end);
+        break;
+    }
+  }
+};
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* scalars,
+  double& a,
+  double& b)
+{
+  a = 1.0;
+  b = 0.0;
+  const int type = scalars->GetDataType();
+  const bool eightBit = type == VTK_UNSIGNED_CHAR || type == VTK_SIGNED_CHAR || type == VTK_CHAR;
+  const bool sixteenBit = type == VTK_UNSIGNED_SHORT || type == VTK_SHORT;
+  const int precision = this->VolumePrecision;
+  int copyType = VTK_VOID; // no copy
+  if (eightBit && (precision == VOLUME_PRECISION_AUTOMATIC || precision == VOLUME_PRECISION_16BIT))
+  {
+    copyType = VTK_UNSIGNED_SHORT;
+  }
+  else if ((eightBit || sixteenBit) && precision == VOLUME_PRECISION_FLOAT32)
+  {
+    copyType = VTK_FLOAT;
+  }
+  // 8-bit integers fill the 16-bit range: lowest value at 0, one step 257 units (255 * 257 =
+  // 65535), so a unit of the data is as many texture levels apart as its own bits allow.
+  const double lowest = type == VTK_UNSIGNED_CHAR ? 0.0 : -128.0;
+  const double factor = 257.0;
+  const vtkIdType values = scalars->GetNumberOfValues();
+  vtkDataArray* uploaded = scalars;
+  if (copyType != VTK_VOID && scalars->HasStandardMemoryLayout() &&
+    scalars->GetNumberOfComponents() == 1)
+  {
+    if (!this->ScalarsCopy || this->ScalarsCopySource != scalars ||
+      this->ScalarsCopyTime < scalars->GetMTime() || this->ScalarsCopy->GetDataType() != copyType)
+    {
+      if (this->ScalarsCopy)
+      {
+        this->ScalarsCopy->Delete();
+        this->ScalarsCopy = nullptr;
+      }
+      vtkDataArray* copy = vtkDataArray::CreateDataArray(copyType);
+      copy->SetName(scalars->GetName());
+      bool ok = false;
+      try
+      {
+        copy->SetNumberOfValues(values);
+        ok = copy->GetNumberOfValues() == values;
+      }
+      catch (const std::bad_alloc&)
+      {
+      }
+      if (ok)
+      {
+        if (copyType == VTK_FLOAT)
+        {
+          ScalarsCopier<float> copier{
+            scalars, static_cast<float*>(copy->GetVoidPointer(0)), 0.0, 1.0
+          };
+          vtkSMPTools::For(0, values, copier);
+        }
+        else
+        {
+          ScalarsCopier<unsigned short> copier{
+            scalars, static_cast<unsigned short*>(copy->GetVoidPointer(0)), lowest, factor
+          };
+          vtkSMPTools::For(0, values, copier);
+        }
+        this->ScalarsCopy = copy;
+        this->ScalarsCopySource = scalars;
+        this->ScalarsCopyTime = scalars->GetMTime();
+      }
+      else
+      {
+        copy->Delete();
+        vtkWarningMacro("Not enough memory for a "
+          << (copyType == VTK_FLOAT ? 32 : 16) << "-bit copy of the volume ("
+          << values * (copyType == VTK_FLOAT ? 4 : 2) << " bytes); uploading the data as it is.");
+      }
+    }
+    if (this->ScalarsCopy)
+    {
+      uploaded = this->ScalarsCopy;
+      if (copyType == VTK_UNSIGNED_SHORT)
+      {
+        a = 1.0 / factor;
+        b = lowest;
+      }
+    }
+  }
+  if (uploaded == scalars && this->ScalarsCopy)
+  {
+    this->ScalarsCopy->Delete(); // no longer wanted
+    this->ScalarsCopy = nullptr;
+    this->ScalarsCopySource = nullptr;
+  }
+  this->SetTextureScalars(uploaded == scalars ? nullptr : uploaded);
+  const int uploadedType = uploaded->GetDataType();
+  const int bytes =
+    uploadedType == VTK_UNSIGNED_CHAR || uploadedType == VTK_SIGNED_CHAR || uploadedType == VTK_CHAR
+    ? 1
+    : uploadedType == VTK_UNSIGNED_SHORT || uploadedType == VTK_SHORT ? 2
+                                                                      : 4;
+  this->VolumeTextureMemorySize = values * bytes;
+  this->VolumeCopyMemorySize = uploaded == scalars ? 0 : values * bytes;
+  return uploaded;
 }
 
 //------------------------------------------------------------------------------
@@ -454,5 +634,9 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Iterations: " << this->GetIterations() << "\n";
   os << indent << "TablePrefilter: " << this->GetTablePrefilter() << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
+  os << indent << "VolumePrecision: " << this->VolumePrecision << "\n";
+  os << indent << "VolumeTextureMemorySize: " << this->VolumeTextureMemorySize << "\n";
+  os << indent << "VolumeCopyMemorySize: " << this->VolumeCopyMemorySize << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
 }

@@ -70,6 +70,14 @@ public:
     PRECISION_FLOAT32 = 3
   };
 
+  enum VolumePrecisions
+  {
+    VOLUME_PRECISION_AUTOMATIC = 0, ///< 8-bit integers in 16 bits, other types as VTK uploads them
+    VOLUME_PRECISION_NATIVE = 1,    ///< as VTK uploads them: 8-bit textures for 8-bit data
+    VOLUME_PRECISION_16BIT = 2,     ///< 8-bit integers in 16 bits (the automatic choice)
+    VOLUME_PRECISION_FLOAT32 = 3    ///< 8- and 16-bit integers as 32-bit floats
+  };
+
   ///@{
   /**
    * How samples are composited. Initial value is FIRST_ORDER.
@@ -174,6 +182,41 @@ public:
 
   ///@{
   /**
+   * How the volume is stored on the GPU while it is pre-integrated. Texture units may
+   * interpolate an 8-bit texture at 8-bit precision (Mesa's llvmpipe does), which rounds every
+   * sample to a whole data value and puts a floor under the error of every step and table
+   * size; a 16-bit copy of the values (v * 257, exact) is interpolated at 16-bit precision for
+   * twice the memory (VOLUME_PRECISION_16BIT, the automatic choice), a float copy at float
+   * precision for four times (VOLUME_PRECISION_FLOAT32). 16-bit data is interpolated at 16
+   * bits already, 32-bit and double data are uploaded by VTK as floats. The copy is made on
+   * the CPU once per scalar array; it holds as many bytes as the texture. Frames drawn by VTK's
+   * stock path use the data as VTK uploads it. Initial value is VOLUME_PRECISION_AUTOMATIC.
+   */
+  vtkSetClampMacro(VolumePrecision, int, VOLUME_PRECISION_AUTOMATIC, VOLUME_PRECISION_FLOAT32);
+  vtkGetMacro(VolumePrecision, int);
+  ///@}
+
+  /**
+   * Bytes of the volume texture of the last pre-integrated frame as uploaded (the data's
+   * points or cells times 1, 2 or 4 bytes, VolumePrecision resolved), and of the CPU copy
+   * made for it (0 when VTK uploads the input's own array).
+   */
+  vtkGetMacro(VolumeTextureMemorySize, vtkIdType);
+  vtkGetMacro(VolumeCopyMemorySize, vtkIdType);
+
+  ///@{
+  /**
+   * The most samples a ray may take across the volume's diagonal at the sample distance. A
+   * sample distance finer than that is an error and nothing is drawn: the shader advances
+   * the ray in float texture coordinates, whose rounding (about 6e-8 of the volume) must
+   * stay far below one step, and the frame would take minutes. Initial value is 100000.
+   */
+  vtkSetClampMacro(MaximumSamplesPerRay, double, 1.0, 1e9);
+  vtkGetMacro(MaximumSamplesPerRay, double);
+  ///@}
+
+  ///@{
+  /**
    * The tables (for statistics: GetBuildCount, GetLastBuildTime, GetMemorySize); only the one
    * of the active order is built.
    */
@@ -208,6 +251,9 @@ protected:
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
+  // The array for VTK to upload as the volume texture under VolumePrecision (the input's own
+  // or a cached copy), and the map from its values to the data's: data = value * a + b.
+  vtkDataArray* ChooseTextureScalars(vtkDataArray* scalars, double& a, double& b);
   bool BuildOnGPU(vtkOpenGLRenderWindow* context);
 
   int Integration = FIRST_ORDER;
@@ -218,6 +264,14 @@ protected:
   bool LastTableBuiltOnGPU = false;
   double LastTableBuildTime = 0.0;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
+  double MaximumSamplesPerRay = 1e5;
+  int VolumePrecision = VOLUME_PRECISION_AUTOMATIC;
+  vtkIdType VolumeTextureMemorySize = 0;
+  vtkIdType VolumeCopyMemorySize = 0;
+  // The copy of the scalars for the volume texture, and what it was made from.
+  vtkDataArray* ScalarsCopy = nullptr;
+  vtkDataArray* ScalarsCopySource = nullptr;
+  vtkMTimeType ScalarsCopyTime = 0;
 
   vtkFirstOrderPreIntegrationTable* FirstOrderTable;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;

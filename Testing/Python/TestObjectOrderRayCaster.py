@@ -272,6 +272,36 @@ for step in (0.0, -1.0):
     bad = caster(ml, prop, camera, step)
     c.check(bad.messages.errors and "sample distance" in bad.messages.errors[0],
             "sample distance %g: error" % step)
+# A step so fine that a frame would take hours: an error before any work.
+bad = caster(ml, prop, camera, 1e-9)
+c.check(bad.messages.errors and "MaximumSamplesPerRay" in bad.messages.errors[0]
+        and not pixels(bad).any(), "sample distance 1e-9: error, transparent image")
+# A long frame (2^28 samples expected) is walked in parts with progress events; aborting from
+# the first event stops the walk: the tiles not walked stay transparent.
+long_frame = hovr.vtkObjectOrderRayCaster()
+long_frame.SetInputData(ml)
+long_frame.SetVolumeProperty(prop)
+long_frame.SetCamera(camera)
+long_frame.SetImageSize(256, 256)
+long_frame.SetSampleDistance(2.0 * 3 ** 0.5 / 8000)
+long_frame.SetHiddenVolumeRemoval(False)
+progress = []
+
+
+def on_progress(algorithm, _event):
+    progress.append(algorithm.GetProgress())
+    if algorithm.GetProgress() > 0.5:  # about half of the image's tiles walked
+        algorithm.SetAbortExecute(1)
+
+
+long_frame.AddObserver("ProgressEvent", on_progress)
+long_frame.Update()
+drawn = numpy.count_nonzero(pixels(long_frame)[:, 3])
+c.check(len(progress) >= 5 and progress[2] < 0.5 and 0 < drawn,
+        "a long frame reports progress in parts (%s) and stops when aborted (%d pixels drawn)"
+        % (["%.2f" % p for p in progress[:4]], drawn))
+c.check(drawn < 0.8 * numpy.count_nonzero(pixels(caster(ml, prop, camera, 0.05, 256))[:, 3]),
+        "the aborted frame left the tiles after the abort transparent")
 vectors = vtkImageData()
 vectors.SetDimensions(4, 4, 4)
 vectors.AllocateScalars(11, 3)

@@ -160,6 +160,8 @@ parallel_up = write_json("badcam.json", {"position": [0, 0, 5], "focal_point": [
                                          "view_up": [0, 0, 1]})
 small_raw = os.path.join(tmp, "small.raw")
 numpy.zeros(10, numpy.uint8).tofile(small_raw)
+nan_raw = os.path.join(tmp, "allnan.raw")
+numpy.full(4 * 4 * 4, numpy.nan, numpy.float32).tofile(nan_raw)
 missing = os.path.join(tmp, "does-not-exist.vti")
 good = ["--tf", TF, "--size", 16, 16]
 cases = [
@@ -180,6 +182,37 @@ cases = [
     ("raw without dims", ["--input", small_raw, "--type", "uint8"] + good, "--dims"),
     ("raw too small", ["--input", small_raw, "--dims", 4, 4, 4, "--type", "uint8"] + good,
      "bytes"),
+    # 10 bytes for 2 x 2 x 2: the 2 extra bytes are no guess at a header.
+    ("raw larger than its dims", ["--input", small_raw, "--dims", 2, 2, 2, "--type", "uint8"]
+     + good, "--header-bytes 2"),
+    ("raw larger than dims and header", ["--input", small_raw, "--dims", 2, 2, 2, "--type",
+                                         "uint8", "--header-bytes", 1] + good, "header"),
+    ("--dims with a .vti", ["--input", quadrant_vti, "--dims", 4, 4, 4] + good,
+     "raw input only"),
+    ("--type with a generated volume", ["--input", "marschner-lobb:9", "--type", "uint8"]
+     + good, "raw input only"),
+    ("all-NaN volume", ["--input", nan_raw, "--dims", 4, 4, 4, "--type", "float32"] + good,
+     "NaN"),
+    ("step too small for any ray caster", ["--input", quadrant_vti, "--tf", TF, "--step",
+                                           1e-9], "samples along the volume's diagonal"),
+    ("step too small, CPU method", ["--input", quadrant_vti, "--tf", TF, "--step", 1e-9,
+                                    "--method", "objectorder"], "samples"),
+    ("--isovalue with a projection", ["--input", "marschner-lobb:9", "--method",
+                                      "mip-analytic", "--isovalue", 0.5] + good,
+     "isosurface rendering only"),
+    ("--isovalue with composite blending", ["--input", "marschner-lobb:9", "--isovalue", 0.5]
+     + good, "isosurface rendering only"),
+    ("isovalue outside the data range", ["--input", "marschner-lobb:9", "--method",
+                                         "iso-analytic", "--isovalue", 7] + good,
+     "outside the data range"),
+    ("output into a missing folder", ["--input", quadrant_vti, "--tf", TF, "--output",
+                                      os.path.join(tmp, "no-such-folder", "x.vti")],
+     "does not exist"),
+    ("output onto a folder", ["--input", quadrant_vti, "--tf", TF, "--output",
+                              os.path.join(tmp, "a-folder.vti")], "is a folder"),
+    # A folder that exists but takes no files, even for root: the write itself fails.
+    ("write failure", ["--input", quadrant_vti, "--tf", TF, "--size", 8, 8, "--output",
+                       "/proc/hovr-test.png"], "cannot write"),
     ("missing transfer function", ["--input", quadrant_vti, "--tf", missing, "--size", 8, 8],
      "not found"),
     ("transfer function without Points", ["--input", quadrant_vti, "--tf", no_points],
@@ -204,11 +237,24 @@ cases = [
     ("zero size", ["--input", quadrant_vti, "--tf", TF, "--size", 0, 10], "[1, 16384]"),
     ("unknown method", ["--input", quadrant_vti, "--tf", TF, "--method", "magic"], "magic"),
 ]
+os.makedirs(os.path.join(tmp, "a-folder.vti"))
 for what, args, message in cases:
     code, stdout, stderr = run_cli("render", *args, expect=None)
     c.check(code == 2, "%s: exit code 2 (got %d)" % (what, code))
     c.check(message in stderr, "%s: message mentions %r: %s" % (what, message, stderr.strip()))
     c.check("Traceback" not in stderr, "%s: no traceback" % what)
+    # One line per problem: VTK's own log lines (with colour codes) stay out of it.
+    c.check("\x1b[" not in stderr and "ERR|" not in stderr,
+            "%s: no raw VTK log lines" % what)
+
+# Several isovalues, one outside the data range: a warning, and the surface of the other.
+out = os.path.join(tmp, "iso_partly_outside.vti")
+code, stdout, stderr = run_cli("render", "--input", "marschner-lobb:9", "--method",
+                               "iso-analytic", "--isovalue", 7, "--isovalue", 0.5, *good,
+                               "--output", out)
+c.check("warning" in stderr and "outside the data range" in stderr,
+        "an isovalue outside the data range is reported: %s" % stderr.strip())
+c.check(read_rgba(out)[1][:, :, 3].max() > 0.5, "the isovalue inside the range is drawn")
 # Isosurfaces and projections: the Depth and MaxScalar arrays, compared with the reference.
 iso_ref = os.path.join(tmp, "iso_ref.vti")
 iso_out = os.path.join(tmp, "iso.vti")

@@ -14,6 +14,7 @@ A bench configuration is a JSON object::
          "camera": "optional camera JSON; default: an oblique view of the whole volume"},
         {"name": "neghip", "input": "${HOVR_DATA}/neghip_64x64x64_uint8.raw",
          "dims": [64, 64, 64], "type": "uint8", "spacing": [1, 1, 1],
+         "header_bytes": 0,           # raw input: bytes before the data (default 0)
          "tf": "...", "optional": true}
       ]
     }
@@ -104,9 +105,17 @@ def load_volume(spec, base=None):
     ``thin-features[:N]`` (vtkThinFeatureSource)."""
     source = spec["input"]
     for prefix, (class_name, default_size) in GENERATED_VOLUMES.items():
-        if source.startswith(prefix):
+        if source == prefix or source.startswith(prefix + ":"):
             from . import hovrFiltersSources as sources
-            size = int(source.split(":")[1]) if ":" in source else default_size
+            raw_options = [key for key in ("dims", "type", "spacing", "header_bytes")
+                           if spec.get(key) is not None]
+            if raw_options:
+                raise HovrError("%s is generated: %s apply to raw input only" % (
+                    prefix, ", ".join("--" + k.replace("_", "-") for k in raw_options)))
+            try:
+                size = int(source.split(":")[1]) if ":" in source else default_size
+            except ValueError:
+                raise HovrError("%s:N needs an integer N, got %r" % (prefix, source)) from None
             if size < 2:
                 raise HovrError("%s needs at least 2 points per axis" % prefix)
             generator = getattr(sources, class_name)()
@@ -114,7 +123,8 @@ def load_volume(spec, base=None):
             generator.Update()
             return generator.GetOutput()
     path = _expand(source, base) if base else source
-    return hio.read_volume(path, spec.get("dims"), spec.get("type"), spec.get("spacing"))
+    return hio.read_volume(path, spec.get("dims"), spec.get("type"), spec.get("spacing"),
+                           spec.get("header_bytes"))
 
 
 def load_config(path):

@@ -66,7 +66,9 @@ def build_parser():
 
     render = commands.add_parser("render", help="render one image", description=(
         "Render a volume with one method. Output: .vti (float RGBA, premultiplied, pixel (i, j) "
-        "from left and bottom) or .png (composited over black, for looking)."))
+        "from left and bottom) or .png (composited over black, for looking). Raw input is read "
+        "as numpy and ParaView read it: x fastest, rows in increasing y, slices in increasing "
+        "z."))
     render.add_argument("--input", required=True, help=(
         "volume: .vti, .mhd, .nii, .nii.gz, .slc, legacy .vtk structured points, raw (with "
         "--dims and --type), marschner-lobb[:N] or thin-features[:N] (sheets and tubes "
@@ -77,6 +79,8 @@ def build_parser():
                         "(little-endian)")
     render.add_argument("--spacing", nargs=3, type=_positive, metavar=("X", "Y", "Z"),
                         help="raw input: voxel spacing (default 1 1 1)")
+    render.add_argument("--header-bytes", type=_count, metavar="N", help="raw input: bytes "
+                        "before the data (default 0: the file holds exactly the data)")
     render.add_argument("--tf", required=True, help="ParaView transfer-function preset JSON "
                         "with RGBPoints and Points")
     render.add_argument("--opacity-unit-distance", type=_positive, default=1.0, metavar="U",
@@ -133,33 +137,55 @@ def build_parser():
     return parser
 
 
+def warn(message):
+    print("hovr render: warning: " + message, file=sys.stderr)
+
+
 def cmd_render(args):
     from . import bench as hb
     from . import io as hio
     from . import methods as hm
-    if args.output and not args.output.lower().endswith((".vti", ".png")):
-        raise HovrError("--output must end in .vti or .png: %s" % args.output)
-    spec = {"input": args.input, "dims": args.dims, "type": args.type, "spacing": args.spacing}
-    image = hb.load_volume(spec)
-    for warning in hio.check_volume(image):
-        print("hovr render: warning: " + warning, file=sys.stderr)
-    color, opacity, _ = hio.read_transfer_function(args.tf)
-    prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
+    if args.output:
+        if not args.output.lower().endswith((".vti", ".png")):
+            raise HovrError("--output must end in .vti or .png: %s" % args.output)
+        hio.check_output_path(args.output)
     method = hm.get_method(args.method)
-    # Parallel-only methods get the default view in parallel projection.
-    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
-        image.GetBounds(), parallel=method.parallel_only)
     if method.blend and args.blend and args.blend != method.blend:
         raise HovrError("--blend %s contradicts method %s, which renders %s" % (
             args.blend, method.name, method.blend))
-    if (method.blend or args.blend) == "iso" and not args.isovalue:
+    blend = method.blend or args.blend or "composite"
+    if args.isovalue and blend != "iso":
+        raise HovrError("--isovalue applies to isosurface rendering only; method %s renders "
+                        "%s" % (method.name, blend))
+    if blend == "iso" and not args.isovalue:
         raise HovrError("isosurface rendering needs at least one --isovalue")
+    spec = {"input": args.input, "dims": args.dims, "type": args.type, "spacing": args.spacing,
+            "header_bytes": args.header_bytes}
+    image = hb.load_volume(spec)
+    for warning in hio.check_volume(image):
+        warn(warning)
+    color, opacity, _ = hio.read_transfer_function(args.tf)
+    prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
+    # Parallel-only methods get the default view in parallel projection.
+    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
+        image.GetBounds(), parallel=method.parallel_only)
+    low, high = image.GetPointData().GetScalars().GetFiniteRange()
+    inside = 0
     for k, value in enumerate(args.isovalue or []):
         if not math.isfinite(value):
             raise HovrError("--isovalue must be finite, got %s" % value)
+        if low <= value <= high:
+            inside += 1
+        else:
+            warn("isovalue %g lies outside the data range [%g, %g]: it draws no surface"
+                 % (value, low, high))
         prop.GetIsoSurfaceValues().SetValue(k, value)
-    scene = hm.Scene(image, prop, camera, args.size,
-                     method.blend or args.blend or "composite")
+    if args.isovalue and not inside:
+        raise HovrError("no --isovalue lies inside the data range [%g, %g]: the image would "
+                        "be empty" % (low, high))
+    scene = hm.Scene(image, prop, camera, args.size, blend)
+    if method.uses_step:
+        scene.step_length(args.step)  # before any work: a step too small is an error
     renderer = hm.Renderer()
     try:
         result = renderer.render(args.method, scene, args.step, args.repeat)

@@ -49,12 +49,37 @@ class _ErrorCatcher:
             self._obj.RemoveObserver(tag)
 
 
+class _VTKOutputCaptured:
+    """Within ``with``: what VTK objects without an observer report (the XML parser inside a
+    reader, for one) goes to a string instead of the terminal, where VTK's logger would print
+    it with colour codes; ``text`` holds it after."""
+
+    def __enter__(self):
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
+        self._previous = vtkOutputWindow.GetInstance()
+        self._previous.Register(None)  # kept alive while replaced
+        self._window = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self._window)
+        self._verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+        return self
+
+    def __exit__(self, *exc):
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow
+        self.text = self._window.GetOutput()
+        vtkLogger.SetStderrVerbosity(self._verbosity)
+        vtkOutputWindow.SetInstance(self._previous)
+        self._previous.UnRegister(None)
+        return False
+
+
 def _run_reader(reader, path):
     catcher = _ErrorCatcher(reader)
     executive = reader.GetExecutive()
     catcher_exec = _ErrorCatcher(executive)
     try:
-        reader.Update()
+        with _VTKOutputCaptured():
+            reader.Update()
     finally:
         catcher.detach()
         catcher_exec.detach()
@@ -64,19 +89,35 @@ def _run_reader(reader, path):
     return reader.GetOutputDataObject(0)
 
 
-def read_volume(path, dims=None, scalar_type=None, spacing=None):
+# Extensions of the formats whose files describe themselves (no --dims, --type, --spacing).
+SELF_DESCRIBING = (".vti", ".mhd", ".mha", ".nii", ".nii.gz", ".slc", ".vtk")
+
+
+def read_volume(path, dims=None, scalar_type=None, spacing=None, header_bytes=None):
     """Read a scalar volume as vtkImageData.
 
     Formats: .vti, .mhd/.mha, .nii/.nii.gz, .slc, legacy .vtk structured points, and raw
-    little-endian data (``dims`` and ``scalar_type`` required, x fastest).
+    little-endian data (``dims`` and ``scalar_type`` required) laid out as numpy and ParaView
+    read it: x fastest, then rows in increasing y, then slices in increasing z, after
+    ``header_bytes`` bytes (default 0; the file must hold exactly the header and the data).
     """
     if not os.path.isfile(path):
         raise HovrError("input file not found: %s" % path)
     if not os.access(path, os.R_OK):
         raise HovrError("input file is not readable: %s" % path)
     lower = path.lower()
-    if dims is not None or scalar_type is not None or lower.endswith(".raw"):
-        return _read_raw(path, dims, scalar_type, spacing)
+    raw_options = [name for name, value in (("--dims", dims), ("--type", scalar_type),
+                                            ("--spacing", spacing),
+                                            ("--header-bytes", header_bytes))
+                   if value is not None]
+    if lower.endswith(SELF_DESCRIBING):
+        if raw_options:
+            raise HovrError("%s applies to raw input only: %s is a %s file, which gives its "
+                            "own dimensions, type and spacing" % (
+                                " and ".join(raw_options), path,
+                                next(e for e in SELF_DESCRIBING if lower.endswith(e))))
+    elif raw_options or lower.endswith(".raw"):
+        return _read_raw(path, dims, scalar_type, spacing, header_bytes)
     if lower.endswith(".vti"):
         from vtkmodules.vtkIOXML import vtkXMLImageDataReader
         reader = vtkXMLImageDataReader()
@@ -107,7 +148,7 @@ def read_volume(path, dims=None, scalar_type=None, spacing=None):
     return image
 
 
-def _read_raw(path, dims, scalar_type, spacing):
+def _read_raw(path, dims, scalar_type, spacing, header_bytes=None):
     if dims is None or scalar_type is None:
         raise HovrError("raw input %s needs --dims X Y Z and --type %s"
                         % (path, "|".join(RAW_TYPES)))
@@ -119,6 +160,20 @@ def _read_raw(path, dims, scalar_type, spacing):
     spacing = [float(s) for s in (spacing or (1.0, 1.0, 1.0))]
     if len(spacing) != 3 or not all(s > 0 and math.isfinite(s) for s in spacing):
         raise HovrError("--spacing needs three positive numbers, got %s" % spacing)
+    header = 0 if header_bytes is None else int(header_bytes)
+    if header < 0:
+        raise HovrError("--header-bytes must not be negative, got %d" % header)
+    size = os.path.getsize(path)
+    bytes_per = {"uint8": 1, "uint16": 2, "int16": 2, "float32": 4}[scalar_type]
+    expected = dims[0] * dims[1] * dims[2] * bytes_per
+    if size != header + expected:
+        # A larger file is no guess at a header: its layout is not what the user said.
+        raise HovrError(
+            "%s has %d bytes, but %dx%dx%d %s needs %d%s; check --dims and --type%s"
+            % (path, size, dims[0], dims[1], dims[2], scalar_type, expected,
+               " after a %d-byte header" % header if header else "",
+               ", or give --header-bytes %d if the file starts with a header"
+               % (size - expected) if size > expected and not header else ""))
     from vtkmodules.vtkIOImage import vtkImageReader2
     reader = vtkImageReader2()
     reader.SetFileName(path)
@@ -128,12 +183,10 @@ def _read_raw(path, dims, scalar_type, spacing):
     reader.SetDataByteOrderToLittleEndian()
     getattr(reader, "SetDataScalarTypeTo" + RAW_TYPES[scalar_type])()
     reader.SetNumberOfScalarComponents(1)
-    size = os.path.getsize(path)
-    bytes_per = {"uint8": 1, "uint16": 2, "int16": 2, "float32": 4}[scalar_type]
-    expected = dims[0] * dims[1] * dims[2] * bytes_per
-    if size < expected:
-        raise HovrError("%s has %d bytes, but %dx%dx%d %s needs %d"
-                        % (path, size, dims[0], dims[1], dims[2], scalar_type, expected))
+    reader.SetHeaderSize(header)
+    # Rows in increasing y, as numpy writes them and ParaView's raw reader reads them
+    # (vtkImageReader2 reads them top-down unless told otherwise: a mirrored volume).
+    reader.SetFileLowerLeft(1)
     data = _run_reader(reader, path)
     image = vtkImageData()
     image.ShallowCopy(data)
@@ -160,6 +213,8 @@ def check_volume(image):
                         % dims)
     warnings = []
     nan_count = count_nan(scalars)
+    if nan_count == scalars.GetNumberOfTuples():
+        raise HovrError("every value of the volume is NaN: there is nothing to render")
     if nan_count:
         warnings.append("the volume holds %d NaN values; they are rendered transparent"
                         % nan_count)
@@ -316,13 +371,39 @@ def default_camera(bounds, direction=(1.0, -1.6, 0.9), view_up=(0.0, 0.0, 1.0), 
                              "parallel_scale": radius * 1.02})
 
 
+def check_output_path(path):
+    """Raise HovrError unless ``path`` can be written: its folder exists and is writable, and
+    it is not a folder itself. Called before any work, so a bad path costs nothing."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise HovrError("cannot write %s: the folder %s does not exist" % (path, folder))
+    if not os.access(folder, os.W_OK):
+        raise HovrError("cannot write %s: the folder %s is not writable" % (path, folder))
+    if os.path.isdir(path):
+        raise HovrError("cannot write %s: it is a folder" % path)
+
+
+def _run_writer(writer, path):
+    catcher = _ErrorCatcher(writer)
+    catcher_exec = _ErrorCatcher(writer.GetExecutive())
+    try:
+        with _VTKOutputCaptured():
+            written = writer.Write()  # 1 or 0 from XML writers, None from image writers
+    finally:
+        catcher.detach()
+        catcher_exec.detach()
+    if written == 0 or writer.GetErrorCode() or catcher.messages or catcher_exec.messages:
+        messages = catcher.messages + catcher_exec.messages
+        reason = messages[0].splitlines()[-1] if messages else "write failed"
+        raise HovrError("cannot write %s: %s" % (path, reason))
+
+
 def write_vti(image, path):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
     writer = vtkXMLImageDataWriter()
     writer.SetFileName(path)
     writer.SetInputData(image)
-    if not writer.Write():
-        raise HovrError("cannot write %s" % path)
+    _run_writer(writer, path)
 
 
 def read_vti(path):
@@ -349,7 +430,7 @@ def rgba_to_png(image, path, array="RGBA", scale=1.0):
     writer = vtkPNGWriter()
     writer.SetFileName(path)
     writer.SetInputData(out)
-    writer.Write()
+    _run_writer(writer, path)
 
 
 def write_image(image, path):

@@ -23,6 +23,11 @@ from . import hovrRenderingOpenGL as gl
 from .io import HovrError
 
 
+# The most samples a ray may take across the volume's diagonal: a GPU ray caster advances its
+# position in float texture coordinates, whose rounding (6e-8 of the volume) must stay far
+# below the step.
+MAX_SAMPLES_PER_RAY = 100000
+
 # Blend modes by name, with vtkVolumeMapper's values; the arrays hovr render adds for them.
 BLEND_MODES = {"composite": 0, "mip": 1, "minip": 2, "iso": 5}
 BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
@@ -46,10 +51,23 @@ class Scene:
         self.blend = blend
 
     def step_length(self, step):
-        """World length of a step given in units of the smallest voxel spacing."""
+        """World length of a step given in units of the smallest voxel spacing; a HovrError
+        when it is not positive or would take more than MAX_SAMPLES_PER_RAY samples along the
+        volume's diagonal."""
         if not step > 0:
             raise HovrError("the step must be positive, got %g" % step)
-        return step * min(abs(s) for s in self.image.GetSpacing())
+        length = step * min(abs(s) for s in self.image.GetSpacing())
+        bounds = self.image.GetBounds()
+        diagonal = sum((bounds[2 * a + 1] - bounds[2 * a]) ** 2 for a in range(3)) ** 0.5
+        samples = diagonal / length if length > 0 else float("inf")
+        if not samples <= MAX_SAMPLES_PER_RAY:
+            raise HovrError(
+                "a step of %g voxel takes %.3g samples along the volume's diagonal; at most %d "
+                "are allowed (float ray positions stop advancing on the GPU, and the CPU "
+                "methods would run for hours): use a step of at least %.3g" % (
+                    step, samples, MAX_SAMPLES_PER_RAY,
+                    step * samples / MAX_SAMPLES_PER_RAY))
+        return length
 
 
 class RenderResult:
