@@ -298,14 +298,10 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     return DrawNothing;
   }
 
-  // raw texture value -> uploaded value -> data value -> table texture coordinate (entries at
-  // texel centres).
-  double toData, dataShift;
-  vtkDataArray* uploaded = this->ChooseTextureScalars(scalars, toData, dataShift);
+  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
   double scale, shift;
-  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(uploaded, scale, shift);
-  scale *= toData;
-  shift = shift * toData + dataShift;
+  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
+    this->ChooseTextureScalars(scalars), scale, shift);
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
   this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
@@ -315,22 +311,16 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 //------------------------------------------------------------------------------
 namespace
 {
-// Copies 8- or 16-bit integers into 16-bit unsigned integers v' = (v - lowest) * factor or
-// into floats v' = v: exact either way.
+// Copies 8- or 16-bit integers into a wider type, value for value.
 template <typename Out>
 struct ScalarsCopier
 {
   vtkDataArray* In;
   Out* Values;
-  double Lowest, Factor;
   template <typename In>
   void Copy(const In* in, vtkIdType begin, vtkIdType end) const
   {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      this->Values[i] =
-        static_cast<Out>((static_cast<double>(in[i]) - this->Lowest) * this->Factor);
-    }
+    std::copy(in + begin, in + end, this->Values + begin);
   }
   void operator()(vtkIdType begin, vtkIdType end) const
   {
@@ -355,32 +345,33 @@ struct ScalarsCopier
     }
   }
 };
+
+template <typename Out>
+void CopyScalars(vtkDataArray* in, vtkDataArray* out)
+{
+  ScalarsCopier<Out> copier{ in, static_cast<Out*>(out->GetVoidPointer(0)) };
+  vtkSMPTools::For(0, in->GetNumberOfValues(), copier);
+}
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* scalars,
-  double& a,
-  double& b)
+vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* scalars)
 {
-  a = 1.0;
-  b = 0.0;
   const int type = scalars->GetDataType();
   const bool eightBit = type == VTK_UNSIGNED_CHAR || type == VTK_SIGNED_CHAR || type == VTK_CHAR;
   const bool sixteenBit = type == VTK_UNSIGNED_SHORT || type == VTK_SHORT;
   const int precision = this->VolumePrecision;
+  // The copy holds the same values, so VTK's own scalar range and lookup tables stay those of
+  // the data; only the texel format changes (VTK uploads 16-bit integers as 16-bit textures).
   int copyType = VTK_VOID; // no copy
   if (eightBit && (precision == VOLUME_PRECISION_AUTOMATIC || precision == VOLUME_PRECISION_16BIT))
   {
-    copyType = VTK_UNSIGNED_SHORT;
+    copyType = type == VTK_UNSIGNED_CHAR ? VTK_UNSIGNED_SHORT : VTK_SHORT;
   }
   else if ((eightBit || sixteenBit) && precision == VOLUME_PRECISION_FLOAT32)
   {
     copyType = VTK_FLOAT;
   }
-  // 8-bit integers fill the 16-bit range: lowest value at 0, one step 257 units (255 * 257 =
-  // 65535), so a unit of the data is as many texture levels apart as its own bits allow.
-  const double lowest = type == VTK_UNSIGNED_CHAR ? 0.0 : -128.0;
-  const double factor = 257.0;
   const vtkIdType values = scalars->GetNumberOfValues();
   vtkDataArray* uploaded = scalars;
   if (copyType != VTK_VOID && scalars->HasStandardMemoryLayout() &&
@@ -407,19 +398,16 @@ vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* 
       }
       if (ok)
       {
-        if (copyType == VTK_FLOAT)
+        switch (copyType)
         {
-          ScalarsCopier<float> copier{
-            scalars, static_cast<float*>(copy->GetVoidPointer(0)), 0.0, 1.0
-          };
-          vtkSMPTools::For(0, values, copier);
-        }
-        else
-        {
-          ScalarsCopier<unsigned short> copier{
-            scalars, static_cast<unsigned short*>(copy->GetVoidPointer(0)), lowest, factor
-          };
-          vtkSMPTools::For(0, values, copier);
+          case VTK_FLOAT:
+            CopyScalars<float>(scalars, copy);
+            break;
+          case VTK_SHORT:
+            CopyScalars<short>(scalars, copy);
+            break;
+          default:
+            CopyScalars<unsigned short>(scalars, copy);
         }
         this->ScalarsCopy = copy;
         this->ScalarsCopySource = scalars;
@@ -436,11 +424,6 @@ vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* 
     if (this->ScalarsCopy)
     {
       uploaded = this->ScalarsCopy;
-      if (copyType == VTK_UNSIGNED_SHORT)
-      {
-        a = 1.0 / factor;
-        b = lowest;
-      }
     }
   }
   if (uploaded == scalars && this->ScalarsCopy)

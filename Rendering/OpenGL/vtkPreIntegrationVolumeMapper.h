@@ -74,7 +74,7 @@ public:
   {
     VOLUME_PRECISION_AUTOMATIC = 0, ///< 8-bit integers in 16 bits, other types as VTK uploads them
     VOLUME_PRECISION_NATIVE = 1,    ///< as VTK uploads them: 8-bit textures for 8-bit data
-    VOLUME_PRECISION_16BIT = 2,     ///< 8-bit integers in 16 bits (the automatic choice)
+    VOLUME_PRECISION_16BIT = 2,     ///< 8-bit integers copied to 16-bit ones (automatic)
     VOLUME_PRECISION_FLOAT32 = 3    ///< 8- and 16-bit integers as 32-bit floats
   };
 
@@ -184,13 +184,16 @@ public:
   /**
    * How the volume is stored on the GPU while it is pre-integrated. Texture units may
    * interpolate an 8-bit texture at 8-bit precision (Mesa's llvmpipe does), which rounds every
-   * sample to a whole data value and puts a floor under the error of every step and table
-   * size; a 16-bit copy of the values (v * 257, exact) is interpolated at 16-bit precision for
-   * twice the memory (VOLUME_PRECISION_16BIT, the automatic choice), a float copy at float
-   * precision for four times (VOLUME_PRECISION_FLOAT32). 16-bit data is interpolated at 16
-   * bits already, 32-bit and double data are uploaded by VTK as floats. The copy is made on
-   * the CPU once per scalar array; it holds as many bytes as the texture. Frames drawn by VTK's
-   * stock path use the data as VTK uploads it. Initial value is VOLUME_PRECISION_AUTOMATIC.
+   * sample to about a whole data value and puts a floor under the error of every step and
+   * table size. VOLUME_PRECISION_16BIT (the automatic choice) uploads a 16-bit integer copy of
+   * 8-bit data instead, the same values in twice the memory, whose texels llvmpipe converts to
+   * float before interpolating; VOLUME_PRECISION_FLOAT32 a float copy of 8- and 16-bit data
+   * (four bytes per value), interpolated in float wherever float textures are filtered in
+   * float. VTK uploads 16-bit data in 16-bit textures already, 32-bit integers and doubles as
+   * floats. The copy is made on the CPU once per scalar array and holds as many bytes as the
+   * texture; as it holds the data's values, VTK's scalar range and lookup tables are unchanged.
+   * Frames drawn by VTK's stock path use the data as VTK uploads it. Initial value is
+   * VOLUME_PRECISION_AUTOMATIC.
    */
   vtkSetClampMacro(VolumePrecision, int, VOLUME_PRECISION_AUTOMATIC, VOLUME_PRECISION_FLOAT32);
   vtkGetMacro(VolumePrecision, int);
@@ -251,9 +254,9 @@ protected:
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
-  // The array for VTK to upload as the volume texture under VolumePrecision (the input's own
-  // or a cached copy), and the map from its values to the data's: data = value * a + b.
-  vtkDataArray* ChooseTextureScalars(vtkDataArray* scalars, double& a, double& b);
+  // The array for VTK to upload as the volume texture under VolumePrecision: the input's own
+  // or a cached copy of its values in a wider type.
+  vtkDataArray* ChooseTextureScalars(vtkDataArray* scalars);
   bool BuildOnGPU(vtkOpenGLRenderWindow* context);
 
   int Integration = FIRST_ORDER;
