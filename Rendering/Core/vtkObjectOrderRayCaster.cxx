@@ -671,11 +671,10 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   const double diagonal = input->GetLength(); // of the bounds
   if (diagonal / this->SampleDistance > this->MaximumSamplesPerRay)
   {
-    vtkErrorMacro("The sample distance " << this->SampleDistance << " takes "
-                                         << diagonal / this->SampleDistance
-                                         << " samples along the volume's diagonal, more than "
-                                         << this->MaximumSamplesPerRay
-                                         << " (MaximumSamplesPerRay).");
+    vtkErrorMacro("The sample distance "
+      << this->SampleDistance << " takes " << diagonal / this->SampleDistance
+      << " samples along the volume's diagonal, more than " << this->MaximumSamplesPerRay
+      << " (MaximumSamplesPerRay).");
     return 1;
   }
   if (!this->GetCamera()->GetParallelProjection())

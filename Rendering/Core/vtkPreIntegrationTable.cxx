@@ -42,6 +42,17 @@ vtkIdType vtkPreIntegrationTable::GetMemorySize() const
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkPreIntegrationTable::GetNumberOfEntries() const
+{
+  vtkIdType entries = 1;
+  for (int d = 0; d < this->GetNumberOfDimensions(); ++d)
+  {
+    entries *= this->TableSize;
+  }
+  return entries;
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationTable::Update()
 {
   if (!(this->SegmentLength > 0.0) || !std::isfinite(this->SegmentLength))
@@ -66,11 +77,7 @@ bool vtkPreIntegrationTable::Update()
   {
     return true;
   }
-  vtkIdType entries = 1;
-  for (int d = 0; d < this->GetNumberOfDimensions(); ++d)
-  {
-    entries *= this->TableSize;
-  }
+  const vtkIdType entries = this->GetNumberOfEntries();
   const double start = vtkTimerLog::GetUniversalTime();
   // The table (16 bytes per entry) and the build's scratch are the only large allocations:
   // when memory runs out, an error rather than an exception through the caller.
@@ -89,7 +96,7 @@ bool vtkPreIntegrationTable::Update()
   {
     this->Table->Initialize();
     vtkErrorMacro("Not enough memory for the pre-integration table of "
-      << this->TableSize << "^" << this->GetNumberOfDimensions() << " entries ("
+      << entries << " entries ("
       << static_cast<vtkIdType>(
            std::ceil(static_cast<double>(entries) * 4 * sizeof(float) / (1 << 20)))
       << " MiB); a smaller TableSize needs less.");

@@ -82,8 +82,8 @@ public:
   /**
    * Rebuild the table if anything it depends on changed. Returns false and reports an error
    * for invalid settings (missing transfer function, non-positive lengths, empty range) and
-   * when memory runs out for the table (16 bytes per entry: TableSize^3 of them for the
-   * second-order table), which is then empty.
+   * when memory runs out for the table (16 bytes per entry, GetNumberOfEntries() of them),
+   * which is then empty.
    */
   bool Update();
 
@@ -107,6 +107,12 @@ public:
    * Number of table dimensions (2 or 3).
    */
   virtual int GetNumberOfDimensions() const = 0;
+
+  /**
+   * Number of entries of the table: TableSize^dimensions unless a subclass sizes its axes
+   * otherwise.
+   */
+  virtual vtkIdType GetNumberOfEntries() const;
 
   ///@{
   /**

@@ -1,7 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 /**
  * @class   vtkSecondOrderPreIntegrationTable
- * @brief   second-order pre-integration: a 3D table over (front, middle, back) scalar
+ * @brief   second-order pre-integration: a 3D table of slabs (front, middle, back scalar)
  *
  * El Hajjar, Marchesin, Dischler and Mongenet, "Second Order Pre-Integrated Volume
  * Rendering" (2008). Within a slab of length L = SegmentLength (twice the sample distance) the
@@ -10,25 +10,42 @@
  * t in [0, 1], and the table stores
  *   alpha = 1 - exp(-int_0^1 tau(P(t)) L dt),
  *   C     = int_0^1 c(P(t)) tau(P(t)) L exp(-int_0^t tau(P(t')) L dt') dt,
- * premultiplied and self-attenuated. Entry (i, j, k) holds s_f = scalar of entry i (fastest),
- * s_m of entry j and s_b of entry k.
+ * premultiplied and self-attenuated.
  *
- * The integral takes Iterations midpoint steps in t (the paper: 64 are enough, 256 satisfy
- * Nyquist), with colour and opacity of each step read from the iteration table
- * (GetIterationTable), which also serves the GPU builder so that both integrate the same
- * function. P(t) is clamped to the scalar range: the quadratic overshoots its samples by up
- * to 1/8 of their spread, the trilinear field never leaves the data range. A slab whose
- * scalar stays inside one zero-opacity run is set to zero without integration, and one whose
- * scalar stays constant uses the exact exponential; both follow from the range of P over
- * [0, 1]. Built on the CPU with vtkSMPTools. With Prefilter (the default) the transfer
- * function is first box-averaged over one table spacing, so that features narrower than the
- * spacing keep their integral instead of being hit or missed by the entries.
+ * The table's axes are not the three samples themselves but a linear change of them that puts
+ * the entries where slabs fall:
+ *   - the chord's centre c = (s_f + s_b) / 2, TableSize entries over ScalarRange;
+ *   - the chord b = s_b - s_f, ChordSize entries over [-ChordRange, ChordRange];
+ *   - the deviation d = s_m - c of the middle sample from the chord, DeviationSize entries
+ *     over [-DeviationRange, DeviationRange],
+ * so that P(t) = s_f + (b + 4 d) t - 4 d t^2 (Eq. 2 again). A ray whose scalar lingers near a
+ * value (where the table must resolve the transfer function's narrowest features) gives slabs
+ * near b = d = 0, whatever the step: the centre axis can be as fine as a first-order table's,
+ * while the chord and deviation axes only span the differences the data produce at this step,
+ * which shrink with the step (b about as the gradient, d as its change). A table over
+ * (front, middle, back) instead spends its entries evenly on every combination of three
+ * scalars, most of which no slab takes at small steps. Lookups beyond ChordRange or
+ * DeviationRange are clamped to the edge. Entry (i, j, k) holds centre i (fastest), chord j
+ * and deviation k. With DeviationSize 1 (deviation 0) the table is a first-order one
+ * (linear scalar) over (centre, chord).
+ *
+ * The integral takes midpoint steps in t, one for every sample of the iteration table that
+ * P(t) sweeps (at least 1, at most Iterations); each reads the extinction and the extinction-
+ * weighted colour from the iteration table with linear interpolation and composites the step
+ * with the exact exponential of its length, which is exact for a constant scalar. P(t) is
+ * clamped to the scalar range: the quadratic overshoots its samples by up to 1/8 of their
+ * spread, the trilinear field never leaves the data range. A slab whose scalar stays inside
+ * one zero-opacity run is set to zero without integration. Built on the CPU with vtkSMPTools;
+ * vtkOpenGLPreIntegrationTableBuilder builds the same table on the GPU from the same
+ * iteration table. With Prefilter the transfer function is first box-averaged over one entry
+ * spacing of the centre axis (off by default: see Prefilter).
  */
 #ifndef vtkSecondOrderPreIntegrationTable_h
 #define vtkSecondOrderPreIntegrationTable_h
 
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkPreIntegrationTable.h"
+#include "vtkSecondOrderPreIntegrationTableKernel.h" // For GetKernel
 
 class HOVRRENDERINGCORE_EXPORT vtkSecondOrderPreIntegrationTable : public vtkPreIntegrationTable
 {
@@ -38,26 +55,72 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   int GetNumberOfDimensions() const override { return 3; }
+  vtkIdType GetNumberOfEntries() const override;
 
   ///@{
   /**
-   * Integration steps along a slab. Initial value is 64.
+   * Entries along the chord axis (back - front); 1 holds chord 0 only. Initial value is 65.
    */
-  vtkSetClampMacro(Iterations, int, 1, 4096);
+  vtkSetClampMacro(ChordSize, int, 1, 65536);
+  vtkGetMacro(ChordSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Largest chord |back - front| the table holds, in data units; 0 or less: the width of the
+   * scalar range (every chord). Initial value is 0.
+   */
+  vtkSetMacro(ChordRange, double);
+  vtkGetMacro(ChordRange, double);
+  ///@}
+
+  ///@{
+  /**
+   * Entries along the deviation axis (middle - (front + back) / 2); 1 holds deviation 0 only,
+   * a first-order table. Initial value is 33.
+   */
+  vtkSetClampMacro(DeviationSize, int, 1, 65536);
+  vtkGetMacro(DeviationSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Largest deviation |middle - (front + back) / 2| the table holds, in data units; 0 or less:
+   * the width of the scalar range (every deviation of three samples inside it). Initial
+   * value is 0.
+   */
+  vtkSetMacro(DeviationRange, double);
+  vtkGetMacro(DeviationRange, double);
+  ///@}
+
+  /**
+   * ChordRange and DeviationRange as the table uses them (the range width where they are not
+   * positive). The chord of entry j is -R + 2 R j / (ChordSize - 1), R the effective chord
+   * range (0 when ChordSize is 1), and likewise for the deviation.
+   */
+  double GetEffectiveChordRange() const;
+  double GetEffectiveDeviationRange() const;
+
+  ///@{
+  /**
+   * The most integration steps along a slab: a slab takes one step per iteration-table sample
+   * its scalar sweeps, up to this many (the paper integrates every slab in 64 steps). Long
+   * chords vary smoothly with their ends, so capping their steps costs little. Initial value
+   * is 64.
+   */
+  vtkSetClampMacro(Iterations, int, 1, 65536);
   vtkGetMacro(Iterations, int);
   ///@}
 
   ///@{
   /**
-   * Average the transfer function over one table spacing before integrating. A table can
-   * only store its entries; between them the renderer interpolates. A feature narrower than
-   * the entry spacing is then hit or missed depending on where the entries fall, and at
-   * large steps or with 16-bit or float data whose range holds thousands of such features, a
-   * table that resolves all of them would be too big. With Prefilter, every entry integrates
-   * the transfer function box-averaged over one entry spacing, so each feature keeps
-   * its integral wherever it lies and interpolation between entries is smooth; slabs whose
-   * scalar sweeps across many spacings are unchanged, as is a transfer function that is
-   * linear over each spacing. Initial value is true.
+   * Average the transfer function over one entry spacing of the centre axis before
+   * integrating. A feature narrower than the spacing then keeps its integral over scalar
+   * values wherever the entries fall, but not the integral along a ray whose scalar lingers
+   * near it: a ray that stays at a value next to a narrow opacity spike collects the spike's
+   * averaged opacity, which the transfer function does not give it (twice the true opacity
+   * in measured cases). A table whose centre spacing resolves the transfer function needs no
+   * prefilter. Initial value is false.
    */
   vtkSetMacro(Prefilter, bool);
   vtkGetMacro(Prefilter, bool);
@@ -65,38 +128,37 @@ public:
   ///@}
 
   /**
-   * Samples of the iteration table per table spacing in the last build: at least 8, and
-   * enough for 16 samples across the narrowest transfer-function feature. The iteration
-   * table samples the transfer function densely over the scalar range; each step of the
-   * integration reads it with linear interpolation.
+   * The iteration table of the last build: (c tau, tau), extinction-weighted colour and
+   * extinction of the (prefiltered) transfer function at GetNumberOfIterationSamples()
+   * equispaced scalars over ScalarRange, the first at ScalarRange[0] and the last exactly at
+   * ScalarRange[1]. Their spacing is at most 1/16 of the narrowest transfer-function feature
+   * and half the centre axis' entry spacing, and there are at most 65536 of them.
+   */
+  vtkFloatArray* GetIterationTable() { return this->IterationTable; }
+  int GetNumberOfIterationSamples() const { return this->IterationSamples; }
+
+  /**
+   * Iteration-table samples per entry spacing of the centre axis (even, at least 2): entry i
+   * lies at sample IterationSamplesPerSpacing i. Valid after Update().
    */
   vtkGetMacro(IterationSamplesPerSpacing, int);
 
   /**
-   * The iteration table of the last build: for IterationSamplesPerSpacing (TableSize - 1) + 1
-   * equispaced scalars over ScalarRange, RGBA = (c a, a) with a = 1 - exp(-tau L /
-   * Iterations), the premultiplied colour and opacity of one integration step (c and tau of
-   * the prefiltered transfer function when Prefilter is on).
-   */
-  vtkFloatArray* GetIterationTable() { return this->IterationTable; }
-
-  /**
-   * The constant-scalar slab of each entry (the table diagonal), RGBA = (c alpha, alpha) with
-   * alpha = 1 - exp(-tau SegmentLength), tau and c of the (prefiltered) transfer function at
-   * the entry's scalar. Filled by BuildIterationTable().
-   */
-  vtkFloatArray* GetDiagonalTable() { return this->DiagonalTable; }
-
-  /**
-   * Zero-opacity run of each spacing of the iteration table (-1 where there is opacity), the
-   * fine counterpart of GetEmptyRuns() used to skip empty slabs during the build.
+   * Zero-opacity run of each spacing of the iteration table (-1 where there is opacity),
+   * the fine counterpart of GetEmptyRuns() used to skip empty slabs during the build.
    */
   vtkFloatArray* GetIterationEmptyRuns() { return this->IterationEmptyRuns; }
 
   /**
-   * RGBA of entry (front, middle, back) after Update().
+   * The quadratic of entry (centre i, chord j, deviation k) in data units: P(t) = path[0] +
+   * path[1] t + path[2] t^2 (before clamping to the scalar range). Valid after Update().
    */
-  void GetEntry(int front, int middle, int back, double rgba[4]);
+  void GetEntryPath(int i, int j, int k, double path[3]) const;
+
+  /**
+   * RGBA of entry (centre i, chord j, deviation k) after Update().
+   */
+  void GetEntry(int i, int j, int k, double rgba[4]);
 
   /**
    * Fill the iteration table and its empty runs for the current settings (done by Update();
@@ -105,22 +167,33 @@ public:
    */
   void BuildIterationTable();
 
+#ifndef __VTK_WRAP__
+  /**
+   * The integration of single entries, for the current settings and iteration table (after
+   * Update() or BuildIterationTable()).
+   */
+  vtkSecondOrderPreIntegrationTableKernel GetKernel() const;
+#endif
+
 protected:
   vtkSecondOrderPreIntegrationTable();
   ~vtkSecondOrderPreIntegrationTable() override;
 
   void BuildTable() override;
 
-  // The prefilter spreads opacity by half a spacing; the quadratic between entries of one
-  // spacing overshoots them by at most an eighth of it, also within that margin.
+  // The prefilter spreads opacity by half a centre spacing.
   double GetEmptyRunMargin() const override;
 
+  int ChordSize = 65;
+  double ChordRange = 0.0;
+  int DeviationSize = 33;
+  double DeviationRange = 0.0;
   int Iterations = 64;
-  int IterationSamplesPerSpacing = 8;
-  bool Prefilter = true;
+  bool Prefilter = false;
+  int IterationSamples = 0;
+  int IterationSamplesPerSpacing = 2;
   vtkFloatArray* IterationTable;
   vtkFloatArray* IterationEmptyRuns;
-  vtkFloatArray* DiagonalTable;
 
 private:
   vtkSecondOrderPreIntegrationTable(const vtkSecondOrderPreIntegrationTable&) = delete;

@@ -34,7 +34,7 @@ namespace
 // Everything a ray needs, read-only and shared by the threads.
 struct VolumeGrid
 {
-  std::vector<double> Values; // x fastest
+  const double* Values = nullptr; // x fastest
   int Dims[3];
   double PhysicalToIndex[16]; // world point -> 0-based continuous grid index
 };
@@ -54,7 +54,8 @@ public:
   const VolumeGrid& Grid;
   const vtkCameraRayModel* Rays;
   const vtkVolumeTransferFunctionSampler* Sampler;
-  double ScalarStep;
+  double Tolerance; // scalar change per piece, as a fraction of the narrowest local feature
+  double DataRange; // features wider than the data's range count as that wide
   double Cutoff;
   int Width;
   float* Output;
@@ -71,14 +72,16 @@ public:
   RayCaster(const VolumeGrid& grid,
     const vtkCameraRayModel* rays,
     const vtkVolumeTransferFunctionSampler* sampler,
-    double scalarStep,
+    double tolerance,
+    double dataRange,
     double cutoff,
     int width,
     float* output)
     : Grid(grid)
     , Rays(rays)
     , Sampler(sampler)
-    , ScalarStep(scalarStep)
+    , Tolerance(tolerance)
+    , DataRange(dataRange)
     , Cutoff(cutoff)
     , Width(width)
     , Output(output)
@@ -139,7 +142,7 @@ public:
     const int* dims = this->Grid.Dims;
     const vtkIdType sy = dims[0];
     const vtkIdType sz = static_cast<vtkIdType>(dims[0]) * dims[1];
-    const double* values = this->Grid.Values.data();
+    const double* values = this->Grid.Values;
     const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
     const vtkIdType offsets[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
     for (int c = 0; c < 8; ++c)
@@ -347,6 +350,16 @@ public:
     {
       return 0;
     }
+    return this->Integrate(o, v, walk, rgba);
+  }
+
+  // Integrates the ray o + t v in grid index along its walk.
+  vtkIdType Integrate(const double o[3],
+    const double v[3],
+    vtkGridRayTraversal& walk,
+    double rgba[4]) const
+  {
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
     double transmittance = 1.0;
     vtkIdType pieces = 0;
     int cell[3];
@@ -368,7 +381,14 @@ public:
       vtkTrilinearRayProfile profile;
       profile.Set(corner, u0, v);
       const double variation = length * profile.GetMaximumSlope(length);
-      const double n = std::min(std::ceil(variation / this->ScalarStep), 1e6);
+      // Pieces as fine as the narrowest transfer-function feature the cell's values meet (a
+      // feature elsewhere in the range needs no pieces here); one piece where both functions
+      // are constant over them.
+      const double feature =
+        std::min(this->Sampler->GetSmallestFeature(*range.first, *range.second), this->DataRange);
+      const double step =
+        feature > 0.0 && feature < VTK_DOUBLE_MAX ? this->Tolerance * feature : VTK_DOUBLE_MAX;
+      const double n = std::min(std::ceil(variation / step), 1e6);
       const int count = std::max(1, static_cast<int>(n));
       const double h = length / count;
       for (int k = 0; k < count; ++k)
@@ -451,9 +471,10 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   VolumeGrid grid;
   std::copy(dims, dims + 3, grid.Dims);
   const vtkIdType n = scalars->GetNumberOfTuples();
+  std::vector<double> values;
   try
   {
-    grid.Values.resize(n);
+    values.resize(n);
   }
   catch (const std::bad_alloc&)
   {
@@ -465,8 +486,9 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   }
   for (vtkIdType i = 0; i < n; ++i)
   {
-    grid.Values[i] = scalars->GetComponent(i, 0);
+    values[i] = scalars->GetComponent(i, 0);
   }
+  grid.Values = values.data();
   // World point -> absolute structured index -> 0-based grid index.
   const int* extent = input->GetExtent();
   std::copy(input->GetPhysicalToIndexMatrix()->GetData(),
@@ -480,11 +502,6 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   double range[2];
   scalars->GetRange(range, 0);
   const double dataRange = std::isfinite(range[1] - range[0]) ? range[1] - range[0] : 0.0;
-  double feature = std::min(this->Sampler->GetSmallestFeature(), dataRange);
-  if (!(feature > 0.0) || feature == VTK_DOUBLE_MAX)
-  {
-    feature = 1.0; // flat data or a constant transfer function: every piece is exact
-  }
   std::vector<double> isoValues;
   if (iso)
   {
@@ -507,7 +524,8 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   RayCaster caster(grid,
     this->RayModel,
     this->Sampler,
-    this->ScalarTolerance * feature,
+    this->ScalarTolerance,
+    dataRange,
     this->TransmittanceCutoff,
     width,
     rgba->GetPointer(0));
@@ -536,6 +554,38 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
     this->NumberOfSamples += s;
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeReferenceIntegrator::IntegrateRays(const double* values,
+  const int dims[3],
+  const vtkVolumeTransferFunctionSampler* sampler,
+  double scalarTolerance,
+  double dataRange,
+  double cutoff,
+  vtkIdType count,
+  const double* origins,
+  const double* directions,
+  double* rgba)
+{
+  VolumeGrid grid;
+  grid.Values = values;
+  std::copy(dims, dims + 3, grid.Dims);
+  RayCaster caster(grid, nullptr, sampler, scalarTolerance, dataRange, cutoff, 1, nullptr);
+  vtkSMPTools::For(0,
+    count,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType r = begin; r < end; ++r)
+      {
+        vtkGridRayTraversal walk;
+        std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
+        if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
+        {
+          caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r);
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------

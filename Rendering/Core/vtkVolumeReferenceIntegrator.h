@@ -10,12 +10,12 @@
  *
  * How: the ray is walked cell by cell (vtkGridRayTraversal). Inside a cell the scalar is an
  * exact cubic in t (vtkTrilinearRayProfile); the cell segment is cut into n pieces such that
- * the scalar changes by at most ScalarTolerance * (narrowest transfer-function feature) per
- * piece, n being taken from a bound on |ds/dt|. Each piece is integrated with colour and
- * extinction of its midpoint scalar, which is exact for constant pieces and converges as
- * O(ScalarTolerance^2) otherwise (the convergence is tested). Cells whose corner range has
- * zero opacity everywhere are skipped exactly (the interpolant stays inside the corner
- * range). The walk stops when the transmittance falls below TransmittanceCutoff.
+ * the scalar changes by at most ScalarTolerance * (narrowest transfer-function feature among
+ * those the cell's corner values meet) per piece, n being taken from a bound on |ds/dt|. Each piece
+ * is integrated with colour and extinction of its midpoint scalar, which is exact for constant
+ * pieces and converges as O(ScalarTolerance^2) otherwise (the convergence is tested). Cells whose
+ * corner range has zero opacity everywhere are skipped exactly (the interpolant stays inside the
+ * corner range). The walk stops when the transmittance falls below TransmittanceCutoff.
  *
  * Output: a W x H x 1 image, pixel (i, j) counted from left and bottom, with point data
  * "RGBA" (float, premultiplied: accumulated emission, alpha = 1 - transmittance) over a
@@ -47,6 +47,8 @@
 
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
+
+class vtkVolumeTransferFunctionSampler;
 
 class HOVRRENDERINGCORE_EXPORT vtkVolumeReferenceIntegrator : public vtkVolumeImageAlgorithm
 {
@@ -82,8 +84,10 @@ public:
   ///@{
   /**
    * Largest change of the scalar within one integration piece, as a fraction of the narrowest
-   * transfer-function feature (the smallest distance between two nodes, at most the data
-   * range). Halving it divides the error by about four. Initial value is 1/64.
+   * transfer-function feature that the cell's values meet (the smallest distance between two
+   * adjacent nodes whose interval overlaps the range of the cell's corners, at most the data
+   * range; one piece where the functions are constant over it). Halving it divides the error
+   * by about four. Initial value is 1/64.
    */
   vtkSetClampMacro(ScalarTolerance, double, 1e-6, 1.0);
   vtkGetMacro(ScalarTolerance, double);
@@ -114,6 +118,30 @@ public:
    * last update: the samples per frame.
    */
   vtkGetMacro(NumberOfSamples, vtkIdType);
+
+#ifndef __VTK_WRAP__
+  /**
+   * The composite integral along arbitrary rays, for estimates that need the ground truth
+   * off a camera's pixels (vtkPreIntegrationTableSizer). Ray r is o + t v, o = origins[3 r],
+   * v = directions[3 r], in the 0-based continuous grid index of a volume whose points hold
+   * values (x fastest, dims points), t the world distance along it (v is the index-space
+   * image of a unit world direction), from t = 0 through the box of the points; rgba[4 r]
+   * gets its premultiplied RGBA. As in an update, integration pieces change the scalar by at
+   * most scalarTolerance times the narrowest feature the cell's values meet (features wider
+   * than dataRange count as that wide); rays stop when their transmittance falls below
+   * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools.
+   */
+  static void IntegrateRays(const double* values,
+    const int dims[3],
+    const vtkVolumeTransferFunctionSampler* sampler,
+    double scalarTolerance,
+    double dataRange,
+    double cutoff,
+    vtkIdType count,
+    const double* origins,
+    const double* directions,
+    double* rgba);
+#endif
 
 protected:
   vtkVolumeReferenceIntegrator();

@@ -130,6 +130,7 @@ class vtkVolumeTransferFunctionSampler::vtkInternals
 public:
   std::vector<Node> OpacityNodes;
   std::vector<Node> ColorNodes;
+  std::vector<double> Positions; // distinct node positions of both functions, ascending
   double InverseUnitDistance = 1.0;
   double MaximumOpacity = 1.0;
   vtkMTimeType PreparedTime = 0;
@@ -165,6 +166,19 @@ void vtkVolumeTransferFunctionSampler::SetFromVolumeProperty(vtkVolumeProperty* 
   this->SetGrayColor(rgb ? nullptr : property->GetGrayTransferFunction(0));
   this->SetScalarOpacity(property->GetScalarOpacity(0));
   this->SetScalarOpacityUnitDistance(property->GetScalarOpacityUnitDistance(0));
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::SetFromSampler(vtkVolumeTransferFunctionSampler* other)
+{
+  if (other && other != this)
+  {
+    this->SetColor(other->GetColor());
+    this->SetGrayColor(other->GetGrayColor());
+    this->SetScalarOpacity(other->GetScalarOpacity());
+    this->SetScalarOpacityUnitDistance(other->GetScalarOpacityUnitDistance());
+    this->SetMaximumOpacity(other->GetMaximumOpacity());
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -237,6 +251,16 @@ bool vtkVolumeTransferFunctionSampler::Prepare()
   auto byX = [](const Node& a, const Node& b) { return a.X < b.X; };
   std::stable_sort(in.OpacityNodes.begin(), in.OpacityNodes.end(), byX);
   std::stable_sort(in.ColorNodes.begin(), in.ColorNodes.end(), byX);
+  in.Positions.clear();
+  for (const auto* nodes : { &in.OpacityNodes, &in.ColorNodes })
+  {
+    for (const Node& node : *nodes)
+    {
+      in.Positions.push_back(node.X);
+    }
+  }
+  std::sort(in.Positions.begin(), in.Positions.end());
+  in.Positions.erase(std::unique(in.Positions.begin(), in.Positions.end()), in.Positions.end());
   in.InverseUnitDistance = 1.0 / this->ScalarOpacityUnitDistance;
   in.MaximumOpacity = this->MaximumOpacity;
   in.PreparedTime = now;
@@ -305,6 +329,33 @@ double vtkVolumeTransferFunctionSampler::GetMaximumOpacity(double s0, double s1)
 double vtkVolumeTransferFunctionSampler::GetSmallestFeature() const
 {
   return SmallestGap(this->Internals->OpacityNodes, &this->Internals->ColorNodes);
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetSmallestFeature(double s0, double s1) const
+{
+  const std::vector<double>& x = this->Internals->Positions;
+  if (x.size() < 2)
+  {
+    return VTK_DOUBLE_MAX;
+  }
+  if (s1 < s0)
+  {
+    std::swap(s0, s1);
+  }
+  // The node intervals [x[i], x[i + 1]] that [s0, s1] overlaps (outside the nodes both
+  // functions are constant).
+  auto first = std::upper_bound(x.begin(), x.end(), s0);
+  if (first == x.begin())
+  {
+    first = x.begin() + 1;
+  }
+  double smallest = VTK_DOUBLE_MAX;
+  for (auto it = first; it != x.end() && *(it - 1) < s1; ++it)
+  {
+    smallest = std::min(smallest, *it - *(it - 1));
+  }
+  return smallest;
 }
 
 //------------------------------------------------------------------------------

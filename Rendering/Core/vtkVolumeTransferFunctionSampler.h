@@ -90,6 +90,11 @@ public:
   void SetFromVolumeProperty(vtkVolumeProperty* property);
 
   /**
+   * Take the functions, unit distance and opacity cap of another sampler (shared, not copied).
+   */
+  void SetFromSampler(vtkVolumeTransferFunctionSampler* other);
+
+  /**
    * Check the settings and copy the nodes for evaluation. Returns false and reports an error
    * if a function is missing or empty or the unit distance is not positive (or not finite). Cheap
    * when nothing changed since the last call.
@@ -128,6 +133,14 @@ public:
    * the narrowest transfer-function feature. Returns VTK_DOUBLE_MAX with fewer than 2 nodes.
    */
   double GetSmallestFeature() const;
+
+  /**
+   * The narrowest feature among those the scalar interval [s0, s1] overlaps: the smallest
+   * distance between adjacent distinct nodes of either function whose interval meets
+   * [s0, s1]. VTK_DOUBLE_MAX where both functions are constant over [s0, s1] (outside every
+   * node interval). Requires Prepare().
+   */
+  double GetSmallestFeature(double s0, double s1) const;
 
   /**
    * The same for the nodes of the opacity function only: what integrated quantities (opacity,

@@ -87,48 +87,48 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
       "Unsupported internal format " << format << "; use GL_RGBA8, GL_RGBA16F or GL_RGBA32F.");
     return false;
   }
-  const int n = table->GetTableSize();
-  const int perSpacing = table->GetIterationSamplesPerSpacing();
-  const int fine = perSpacing * (n - 1) + 1;
+  const int nc = table->GetTableSize();
+  const int nb = table->GetChordSize();
+  const int nd = table->GetDeviationSize();
+  const int fine = table->GetNumberOfIterationSamples();
   vtkFloatArray* steps = table->GetIterationTable();
   vtkFloatArray* runs = table->GetIterationEmptyRuns();
-  if (table->GetBuildCount() == 0 || steps->GetNumberOfComponents() != 4 ||
-    steps->GetNumberOfTuples() != fine || runs->GetNumberOfTuples() != fine - 1)
+  if (table->GetBuildCount() == 0 || steps->GetNumberOfComponents() != 4 || fine < 2 ||
+    steps->GetNumberOfTuples() != fine || runs->GetNumberOfTuples() != fine - 1 ||
+    fine != table->GetIterationSamplesPerSpacing() * (nc - 1) + 1)
   {
     vtkErrorMacro("The table's iteration table does not match its size "
-      << n << "; call Update() on the table (with ComputeEntries off) before Build().");
+      << nc << "; call Update() on the table (with ComputeEntries off) before Build().");
     return false;
   }
 
   const double start = vtkTimerLog::GetUniversalTime();
   context->MakeCurrent();
   const int maxSize3D = vtkTextureObject::GetMaximumTextureSize3D(context);
-  if (maxSize3D > 0 && n > maxSize3D)
+  if (maxSize3D > 0 && std::max(nc, std::max(nb, nd)) > maxSize3D)
   {
-    vtkErrorMacro(
-      "Table size " << n << " exceeds the OpenGL 3D texture limit " << maxSize3D << ".");
+    vtkErrorMacro("Table size " << nc << " x " << nb << " x " << nd
+                                << " exceeds the OpenGL 3D texture limit " << maxSize3D << ".");
     return false;
   }
 
-  // Inputs: the iteration table and its empty runs, and the diagonal (constant scalar), the
-  // exact exponential over the slab, all from the CPU.
+  // Inputs: the iteration table and its empty runs, from the CPU.
   const int rowShift = RowShift(fine, vtkTextureObject::GetMaximumTextureSize(context));
   vtkNew<vtkTextureObject> stepsTexture;
   vtkNew<vtkTextureObject> runsTexture;
-  vtkNew<vtkTextureObject> diagonalTexture;
   if (!UploadRows(context, stepsTexture, steps->GetPointer(0), fine, 4, 1 << rowShift) ||
-    !UploadRows(context, runsTexture, runs->GetPointer(0), fine - 1, 1, 1 << rowShift) ||
-    !UploadRows(context, diagonalTexture, table->GetDiagonalTable()->GetPointer(0), n, 4, n))
+    !UploadRows(context, runsTexture, runs->GetPointer(0), fine - 1, 1, 1 << rowShift))
   {
     vtkErrorMacro("Could not upload the iteration table.");
     return false;
   }
 
-  // The target: an N^3 texture of the requested format, created only when it differs.
+  // The target: a 3D texture of the table's sizes and the requested format, created only when
+  // it differs.
   if (target->GetHandle() == 0 || target->GetContext() != context ||
-    target->GetNumberOfDimensions() != 3 || target->GetWidth() != static_cast<unsigned int>(n) ||
-    target->GetHeight() != static_cast<unsigned int>(n) ||
-    target->GetDepth() != static_cast<unsigned int>(n) ||
+    target->GetNumberOfDimensions() != 3 || target->GetWidth() != static_cast<unsigned int>(nc) ||
+    target->GetHeight() != static_cast<unsigned int>(nb) ||
+    target->GetDepth() != static_cast<unsigned int>(nd) ||
     target->GetInternalFormat(VTK_FLOAT, 4, false) != internalFormat)
   {
     target->ReleaseGraphicsResources(context);
@@ -136,9 +136,10 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
     target->SetInternalFormat(internalFormat);
     target->SetFormat(GL_RGBA);
     target->SetDataType(GL_FLOAT);
-    if (!target->Allocate3D(n, n, n, 4, VTK_FLOAT))
+    if (!target->Allocate3D(nc, nb, nd, 4, VTK_FLOAT))
     {
-      vtkErrorMacro("Could not allocate the " << n << "^3 table texture.");
+      vtkErrorMacro(
+        "Could not allocate the " << nc << " x " << nb << " x " << nd << " table texture.");
       return false;
     }
   }
@@ -163,7 +164,7 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
   state->vtkglDisable(GL_STENCIL_TEST);
   state->vtkglDisable(GL_CULL_FACE);
   state->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  state->vtkglViewport(0, 0, n, n);
+  state->vtkglViewport(0, 0, nc, nb);
 
   vtkOpenGLQuadHelper quad(context, nullptr, hovrPreIntegration2Build, nullptr);
   vtkShaderProgram* program = quad.Program;
@@ -174,23 +175,26 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
   }
   stepsTexture->Activate();
   runsTexture->Activate();
-  diagonalTexture->Activate();
+  const vtkSecondOrderPreIntegrationTableKernel kernel = table->GetKernel();
   program->SetUniformi("hovr_steps", stepsTexture->GetTextureUnit());
   program->SetUniformi("hovr_stepRuns", runsTexture->GetTextureUnit());
-  program->SetUniformi("hovr_diagonal", diagonalTexture->GetTextureUnit());
   program->SetUniformi("hovr_rowShift", rowShift);
-  program->SetUniformi("hovr_tableSize", n);
-  program->SetUniformi("hovr_samplesPerSpacing", perSpacing);
-  program->SetUniformi("hovr_fine", fine);
-  program->SetUniformi("hovr_iterations", table->GetIterations());
-  program->SetUniformf("hovr_stepWidth", 1.0f / table->GetIterations());
+  program->SetUniformi("hovr_centreSize", nc);
+  program->SetUniformi("hovr_samplesPerSpacing", kernel.SamplesPerSpacing);
+  program->SetUniformi("hovr_samples", kernel.Samples);
+  program->SetUniformi("hovr_chordSize", kernel.ChordSize);
+  program->SetUniformi("hovr_deviationSize", kernel.DeviationSize);
+  program->SetUniformf("hovr_chordHalfStep", kernel.ChordHalfStep);
+  program->SetUniformf("hovr_deviationHalfStep", kernel.DeviationHalfStep);
+  program->SetUniformi("hovr_maximumSteps", kernel.MaximumSteps);
+  program->SetUniformf("hovr_length", kernel.Length);
 
   state->PushFramebufferBindings();
   vtkNew<vtkOpenGLFramebufferObject> framebuffer;
   framebuffer->SetContext(context);
   framebuffer->Bind();
   bool complete = true;
-  for (int k = 0; k < n; ++k)
+  for (int k = 0; k < nd; ++k)
   {
     // AddColorAttachment ignores a new slice of the texture already attached.
     framebuffer->RemoveColorAttachment(0);
@@ -204,14 +208,13 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
         break;
       }
     }
-    program->SetUniformi("hovr_back", k);
+    program->SetUniformi("hovr_deviation", k);
     quad.Render();
   }
   framebuffer->RemoveColorAttachment(0);
   state->PopFramebufferBindings();
   stepsTexture->Deactivate();
   runsTexture->Deactivate();
-  diagonalTexture->Deactivate();
   if (!complete)
   {
     vtkErrorMacro("The table texture cannot be rendered into (incomplete framebuffer).");

@@ -2,7 +2,6 @@
 #include "vtkPreIntegrationVolumeMapper.h"
 
 #include "vtkDataArray.h"
-#include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
@@ -10,6 +9,7 @@
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPreIntegrationTableSizer.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <string>
 
 vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 
@@ -49,13 +50,15 @@ bool IsConstantOne(vtkPiecewiseFunction* function)
   return n > 0;
 }
 
-constexpr int MaximumVolumeTableSize = 512;
+// The most entries along a table axis: a 4097-entry axis already resolves 1/4096 of the range.
+constexpr int MaximumAxisSize = 4097;
 }
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
-  : FirstOrderTable(vtkFirstOrderPreIntegrationTable::New())
+  : FirstOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
+  , TableSizer(vtkPreIntegrationTableSizer::New())
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
@@ -67,6 +70,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 {
   this->FirstOrderTable->Delete();
   this->SecondOrderTable->Delete();
+  this->TableSizer->Delete();
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
@@ -102,9 +106,10 @@ void vtkPreIntegrationVolumeMapper::SetSkipEmptySegments(bool skip)
 //------------------------------------------------------------------------------
 void vtkPreIntegrationVolumeMapper::SetIterations(int iterations)
 {
-  iterations = std::min(std::max(iterations, 1), 4096); // the table's own clamp
+  iterations = std::min(std::max(iterations, 1), 65536); // the table's own clamp
   if (iterations != this->SecondOrderTable->GetIterations())
   {
+    this->FirstOrderTable->SetIterations(iterations);
     this->SecondOrderTable->SetIterations(iterations);
     this->Modified();
   }
@@ -121,6 +126,7 @@ void vtkPreIntegrationVolumeMapper::SetTablePrefilter(bool prefilter)
 {
   if (prefilter != this->SecondOrderTable->GetPrefilter())
   {
+    this->FirstOrderTable->SetPrefilter(prefilter);
     this->SecondOrderTable->SetPrefilter(prefilter);
     this->Modified();
   }
@@ -133,7 +139,7 @@ bool vtkPreIntegrationVolumeMapper::GetTablePrefilter()
 }
 
 //------------------------------------------------------------------------------
-vtkPreIntegrationTable* vtkPreIntegrationVolumeMapper::GetActiveTable()
+vtkSecondOrderPreIntegrationTable* vtkPreIntegrationVolumeMapper::GetActiveTable()
 {
   if (this->Integration == FIRST_ORDER)
   {
@@ -239,7 +245,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
   }
   const bool secondOrder = this->Integration == SECOND_ORDER;
-  vtkPreIntegrationTable* table = this->GetActiveTable();
+  vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
   table->SetVolumeProperty(vol->GetProperty());
   // A first-order segment spans one sample distance, a second-order slab two.
   table->SetSegmentLength(secondOrder ? 2.0 * this->SampleDistance : this->SampleDistance);
@@ -250,48 +256,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     return DrawNothing;
   }
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
-                                  : vtkTextureObject::GetMaximumTextureSize(context);
-  int size = this->TableSize;
-  if (size <= 0)
+  if (!this->SizeTable(context, scalars, cellFlag, range))
   {
-    if (secondOrder)
-    {
-      // The 3D table interpolates whole slabs: the shorter the slab (in voxels), the closer
-      // to the diagonal its entries, the finer the table must be (measured optimum: about
-      // 1.5 / step entries per narrowest opacity feature, step in voxels). Features narrower
-      // than an entry spacing keep their integral through the table's prefilter.
-      double spacing[3];
-      vtkImageData::SafeDownCast(this->GetInput())->GetSpacing(spacing);
-      const double minimumSpacing =
-        std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
-      const double stepInVoxels =
-        this->SampleDistance / (minimumSpacing > 0.0 ? minimumSpacing : 1.0);
-      size = vtkPreIntegrationTable::SuggestTableSize(
-        scalars->GetDataType(), range, table->GetSampler(), 48, 256, 1.5 / stepInVoxels, true);
-    }
-    else
-    {
-      size = vtkPreIntegrationTable::SuggestTableSize(
-        scalars->GetDataType(), range, table->GetSampler(), 256, 1024, 8.0);
-    }
+    return DrawNothing;
   }
-  if (maxSize > 0 && size > maxSize)
-  {
-    vtkWarningMacro("Table size " << size << " exceeds the OpenGL limit " << maxSize << "; using "
-                                  << maxSize << ".");
-    size = maxSize;
-  }
-  if (secondOrder && size > MaximumVolumeTableSize)
-  {
-    // 512^3 RGBA is 1 GiB in half floats: more is a mistake, not a setting.
-    vtkWarningMacro(
-      "A " << size << "^3 table is too large; using " << MaximumVolumeTableSize << "^3.");
-    size = MaximumVolumeTableSize;
-  }
-  table->SetTableSize(size);
   // A GPU build integrates from what Update() prepares; the CPU then skips the entries.
-  this->SecondOrderTable->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
+  table->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
@@ -302,10 +272,94 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   double scale, shift;
   vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
     this->ChooseTextureScalars(scalars), scale, shift);
+  const int size = table->GetTableSize();
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
   this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
+  // Differences of centre-axis coordinates -> chord and deviation coordinates (their 0 at the
+  // axis' middle texel centre): a coordinate unit is (range / toIndex) size data units.
+  const double unit = static_cast<double>(size) / toIndex;
+  auto scaleOf = [&](int entries, double extent)
+  { return entries > 1 && extent > 0.0 ? unit * (entries - 1) / (2.0 * extent * entries) : 0.0; };
+  this->ChordScale =
+    static_cast<float>(scaleOf(table->GetChordSize(), table->GetEffectiveChordRange()));
+  this->DeviationScale =
+    static_cast<float>(scaleOf(table->GetDeviationSize(), table->GetEffectiveDeviationRange()));
   return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
+  vtkDataArray* scalars,
+  int cellFlag,
+  const double range[2])
+{
+  const bool secondOrder = this->Integration == SECOND_ORDER;
+  vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
+  const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
+                                  : vtkTextureObject::GetMaximumTextureSize(context);
+  const int limit = std::min(maxSize > 0 ? maxSize : 2048, MaximumAxisSize);
+  if (this->TableSize > 0)
+  {
+    // N entries on every axis, over every chord and deviation of the range.
+    int size = this->TableSize;
+    if (size > limit)
+    {
+      vtkWarningMacro("Table size " << size << " exceeds the limit " << limit << " (OpenGL's, or "
+                                    << MaximumAxisSize << "); using " << limit << ".");
+      size = limit;
+    }
+    table->SetTableSize(size);
+    table->SetChordSize(size);
+    table->SetChordRange(0.0);
+    table->SetDeviationSize(secondOrder ? size : 1);
+    table->SetDeviationRange(0.0);
+    this->TableSizeKey.clear();
+    return true;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  // The sizer measures candidate tables on point scalars; cell scalars (and anything it cannot
+  // measure) get a table of 256 entries on every axis.
+  if (cellFlag != 0 || !input || scalars->GetNumberOfComponents() != 1)
+  {
+    table->SetTableSize(256);
+    table->SetChordSize(secondOrder ? 65 : 256);
+    table->SetChordRange(0.0);
+    table->SetDeviationSize(secondOrder ? 65 : 1);
+    table->SetDeviationRange(0.0);
+    return true;
+  }
+  const int precision = this->GetEffectiveTablePrecision();
+  static const int bytes[4] = { 16, 4, 8, 16 };
+  // Measured again only when something it depends on changed.
+  const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
+    static_cast<double>(scalars->GetMTime()),
+    static_cast<double>(input->GetMTime()),
+    static_cast<double>(table->GetSampler()->GetMTime()),
+    static_cast<double>(this->Integration),
+    this->SampleDistance,
+    range[0],
+    range[1],
+    this->TableMemoryLimit,
+    static_cast<double>(bytes[precision]),
+    static_cast<double>(limit),
+    static_cast<double>(table->GetPrefilter()),
+    static_cast<double>(table->GetIterations()) };
+  if (key == this->TableSizeKey)
+  {
+    return true;
+  }
+  this->TableSizer->SetMaximumMemory(this->TableMemoryLimit);
+  this->TableSizer->SetBytesPerEntry(bytes[precision]);
+  this->TableSizer->SetMaximumAxisSize(limit);
+  this->TableSizer->SetOpacityThreshold(this->OpacityThreshold);
+  if (!this->TableSizer->Choose(input, scalars, table, secondOrder ? 2 : 1, this->SampleDistance))
+  {
+    vtkErrorMacro("No pre-integration table could be sized; not drawing.");
+    return false;
+  }
+  this->TableSizeKey = key;
+  return true;
 }
 
 //------------------------------------------------------------------------------
@@ -464,7 +518,7 @@ bool vtkPreIntegrationVolumeMapper::BuildOnGPU(vtkOpenGLRenderWindow* context)
 bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
 {
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  vtkPreIntegrationTable* table = this->GetActiveTable();
+  vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
   const int precision = this->GetEffectiveTablePrecision();
   if (this->TableTexture->GetContext() == context && this->UploadedTable == table &&
     this->UploadedBuildCount == table->GetBuildCount() && this->UploadedPrecision == precision &&
@@ -473,7 +527,10 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     return true;
   }
   const int n = table->GetTableSize();
-  const bool volume = table->GetNumberOfDimensions() == 3;
+  const int nb = table->GetChordSize();
+  const int nd = table->GetDeviationSize();
+  // First order reads a 2D texture over (centre, chord), second order a 3D one.
+  const bool volume = this->Integration == SECOND_ORDER;
   static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
   static const int bytes[4] = { 4, 1, 2, 4 };
   const double start = vtkTimerLog::GetUniversalTime();
@@ -481,10 +538,9 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   if (this->LastTableBuiltOnGPU)
   {
     // The GPU builder writes the 3D texture itself, (re)creating it as needed.
-    if (!this->GPUBuilder->Build(
-          context, this->SecondOrderTable, this->TableTexture, formats[precision]))
+    if (!this->GPUBuilder->Build(context, table, this->TableTexture, formats[precision]))
     {
-      vtkErrorMacro("The GPU could not build the " << n << "^3 table.");
+      vtkErrorMacro("The GPU could not build the " << n << " x " << nb << " x " << nd << " table.");
       return false;
     }
   }
@@ -496,11 +552,13 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     this->TableTexture->SetFormat(GL_RGBA);
     this->TableTexture->SetDataType(GL_FLOAT);
     void* data = table->GetTable()->GetVoidPointer(0);
-    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, n, n, 4, VTK_FLOAT, data)
-                                : this->TableTexture->Create2DFromRaw(n, n, 4, VTK_FLOAT, data);
+    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, nb, nd, 4, VTK_FLOAT, data)
+                                : this->TableTexture->Create2DFromRaw(n, nb, 4, VTK_FLOAT, data);
     if (!created)
     {
-      vtkErrorMacro("Could not create the " << n << "^" << (volume ? 3 : 2) << " table texture.");
+      vtkErrorMacro("Could not create the " << n << " x " << nb << (volume ? " x " : "")
+                                            << (volume ? std::to_string(nd) : std::string())
+                                            << " table texture.");
       return false;
     }
   }
@@ -526,8 +584,8 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   this->UploadedTable = table;
   this->UploadedBuildCount = table->GetBuildCount();
   this->UploadedPrecision = precision;
-  vtkIdType entries = static_cast<vtkIdType>(n) * n * (volume ? n : 1);
-  this->TableTextureMemorySize = entries * 4 * bytes[precision] + (n - 1) * 4;
+  this->TableTextureMemorySize =
+    table->GetNumberOfEntries() * 4 * bytes[precision] + static_cast<vtkIdType>(n - 1) * 4;
   return true;
 }
 
@@ -590,6 +648,11 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
   program->SetUniformi("hovr_emptyRuns", this->EmptyRunsTexture->GetTextureUnit());
   program->SetUniformi("hovr_tableSize", this->GetActiveTable()->GetTableSize());
   program->SetUniform2f("hovr_rawToTable", this->RawToTable);
+  program->SetUniformf("hovr_chordScale", this->ChordScale);
+  if (this->Integration == SECOND_ORDER)
+  {
+    program->SetUniformf("hovr_deviationScale", this->DeviationScale);
+  }
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
 }
 
@@ -622,4 +685,5 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VolumeTextureMemorySize: " << this->VolumeTextureMemorySize << "\n";
   os << indent << "VolumeCopyMemorySize: " << this->VolumeCopyMemorySize << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
+  os << indent << "TableMemoryLimit: " << static_cast<vtkIdType>(this->TableMemoryLimit) << "\n";
 }

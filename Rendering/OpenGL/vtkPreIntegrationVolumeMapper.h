@@ -7,18 +7,25 @@
  * between samples instead of point-sampling them, so that narrow transfer-function features
  * are not missed between samples:
  *   - Integration = STOCK: VTK's own compositing, unchanged (for comparison);
- *   - Integration = FIRST_ORDER: first-order pre-integration (Engel et al. 2001), a 2D table
- *     over (front, back) scalar for the sample distance (vtkFirstOrderPreIntegrationTable);
+ *   - Integration = FIRST_ORDER: first-order pre-integration (Engel et al. 2001): each segment
+ *     between consecutive samples, its scalar taken linear, from a 2D table for the sample
+ *     distance;
  *   - Integration = SECOND_ORDER: second-order pre-integration (El Hajjar et al. 2008), slabs
- *     of two sample distances whose three samples fix a quadratic profile, a 3D table over
- *     (front, middle, back) scalar (vtkSecondOrderPreIntegrationTable): one volume fetch per
- *     sample, one table fetch per slab.
+ *     of two sample distances whose three samples fix a quadratic profile, from a 3D table:
+ *     one volume fetch per sample, one table fetch per slab.
+ * Both tables are vtkSecondOrderPreIntegrationTable, whose axes are the chord's centre
+ * (front + back) / 2, the chord back - front and (second order) the deviation of the middle
+ * sample from the chord: a ray whose scalar lingers gives segments near chord 0, so the fine
+ * resolution the transfer function needs goes to the centre axis only, while the chord and
+ * deviation axes span what the data produce at this step. The first-order table is the same
+ * table with deviation 0.
  *
- * Only the table of the active order is built, on the CPU, and uploaded only when the
- * transfer functions, the opacity unit distance, the sample distance or the scalar range
- * change. Its size is chosen from the data (one entry per integer value for 8-bit data) and
- * the transfer function (enough entries across its narrowest feature) unless TableSize is
- * set, and its storage precision from its dimension unless TablePrecision is set.
+ * Only the table of the active order is built, on the CPU (or for second order on the GPU,
+ * see TableBuilder), and uploaded only when the transfer functions, the opacity unit
+ * distance, the sample distance, the data or the table's sizes change. Its sizes are measured
+ * (vtkPreIntegrationTableSizer: candidate tables against the reference integrator on random
+ * rays through the volume, the least memory within 2% of the best error) unless TableSize is
+ * set, and its storage precision follows its order unless TablePrecision is set.
  *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
  * flag and start and end where VTK's ray does. Composite blending of one-component scalars
@@ -33,10 +40,11 @@
 #include "hovrRenderingOpenGLModule.h" // For export macro
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
-class vtkFirstOrderPreIntegrationTable;
+#include <vector> // For std::vector
+
 class vtkOpenGLPreIntegrationTableBuilder;
 class vtkOpenGLRenderWindow;
-class vtkPreIntegrationTable;
+class vtkPreIntegrationTableSizer;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
 
@@ -91,21 +99,32 @@ public:
 
   ///@{
   /**
-   * Entries of the table along each scalar axis; 0 chooses from the data and the transfer
-   * function (vtkPreIntegrationTable::SuggestTableSize): one entry per integer value of 8-bit
-   * data; otherwise, for the 2D table, 8 entries across the narrowest transfer-function
-   * feature, between 256 and 1024. The 3D table interpolates integrated slabs, which vary
-   * more slowly than the transfer function, the more so the longer the slab: 1.5 / step
-   * entries per narrowest opacity feature (step in voxels), between 48 and 256. Measured on
-   * neghip, fuel, bucky and Marschner-Lobb with narrow spikes, this is within a few percent
-   * of the best size for steps of 0.25 to 2 voxels; a 256^3 table at a 2-voxel step is 3-10%
-   * less accurate and slower than a 64^3 one. Values above the OpenGL texture limits, or above
-   * 512 for the 3D table (1 GiB in half floats), are clamped with a warning. Initial value
-   * is 0.
+   * Entries along every axis of the table, over every chord (and deviation) the scalar range
+   * allows: N^2 entries for first order, N^3 for second order, as tables over (front, back)
+   * and (front, middle, back) of that size. 0 measures the sizes instead
+   * (vtkPreIntegrationTableSizer, within TableMemoryLimit): the chord and deviation axes then
+   * span only what the data produce at this step, and each axis gets the entries the image
+   * needs. Values above the OpenGL texture limits or 4097 are clamped with a warning. Initial
+   * value is 0.
    */
   vtkSetClampMacro(TableSize, int, 0, 65536);
   vtkGetMacro(TableSize, int);
   ///@}
+
+  ///@{
+  /**
+   * The largest table the automatic sizes consider, in bytes of GPU memory at the table's
+   * precision. Initial value is 64 MiB.
+   */
+  vtkSetClampMacro(TableMemoryLimit, double, 1024.0, 1e12);
+  vtkGetMacro(TableMemoryLimit, double);
+  ///@}
+
+  /**
+   * What the automatic sizes measured last (candidates, errors, the exact segment model's
+   * error, time).
+   */
+  vtkPreIntegrationTableSizer* GetTableSizer() { return this->TableSizer; }
 
   ///@{
   /**
@@ -151,8 +170,10 @@ public:
 
   ///@{
   /**
-   * Integration steps per entry of the second-order table (the paper: 64 are enough, 256
-   * satisfy Nyquist). Initial value is 64.
+   * The most integration steps along a table entry's segment or slab: an entry takes one step
+   * per sample of the transfer function that its scalar sweeps (vtkSecondOrderPreIntegration-
+   * Table::Iterations), up to this many (the paper's 64 evenly spaced steps, now a cap).
+   * Initial value is 64.
    */
   virtual void SetIterations(int iterations);
   virtual int GetIterations();
@@ -160,11 +181,11 @@ public:
 
   ///@{
   /**
-   * Box-average the transfer function over one entry spacing of the second-order table before
-   * integrating (vtkSecondOrderPreIntegrationTable::Prefilter), so that opacity features
-   * narrower than a spacing keep their integral wherever they fall between entries. Data
-   * exactly at the ends of the scalar range keeps the exact transfer function. Initial value
-   * is true.
+   * Box-average the transfer function over one entry spacing of the table's centre axis before
+   * integrating (vtkSecondOrderPreIntegrationTable::Prefilter). It keeps the integral over
+   * scalar values of features narrower than a spacing, but a ray whose scalar lingers next to
+   * such a feature collects opacity the transfer function does not give it; with measured
+   * table sizes the prefilter is not needed. Initial value is false.
    */
   virtual void SetTablePrefilter(bool prefilter);
   virtual bool GetTablePrefilter();
@@ -223,9 +244,9 @@ public:
    * The tables (for statistics: GetBuildCount, GetLastBuildTime, GetMemorySize); only the one
    * of the active order is built.
    */
-  vtkFirstOrderPreIntegrationTable* GetFirstOrderTable() { return this->FirstOrderTable; }
+  vtkSecondOrderPreIntegrationTable* GetFirstOrderTable() { return this->FirstOrderTable; }
   vtkSecondOrderPreIntegrationTable* GetSecondOrderTable() { return this->SecondOrderTable; }
-  vtkPreIntegrationTable* GetActiveTable();
+  vtkSecondOrderPreIntegrationTable* GetActiveTable();
   ///@}
 
   /**
@@ -254,6 +275,12 @@ protected:
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
+  // Sets the active table's sizes: TableSize, or measured by the sizer when the data, the
+  // transfer functions or the step changed. False after an error.
+  bool SizeTable(vtkOpenGLRenderWindow* context,
+    vtkDataArray* scalars,
+    int cellFlag,
+    const double range[2]);
   // The array for VTK to upload as the volume texture under VolumePrecision: the input's own
   // or a cached copy of its values in a wider type.
   vtkDataArray* ChooseTextureScalars(vtkDataArray* scalars);
@@ -276,17 +303,24 @@ protected:
   vtkDataArray* ScalarsCopySource = nullptr;
   vtkMTimeType ScalarsCopyTime = 0;
 
-  vtkFirstOrderPreIntegrationTable* FirstOrderTable;
+  vtkSecondOrderPreIntegrationTable* FirstOrderTable; // deviation 0
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
+  vtkPreIntegrationTableSizer* TableSizer;
+  double TableMemoryLimit = 64.0 * 1024.0 * 1024.0;
+  // What the sizes were last measured for.
+  std::vector<double> TableSizeKey;
   vtkOpenGLPreIntegrationTableBuilder* GPUBuilder;
   vtkTextureObject* TableTexture;
   vtkTextureObject* EmptyRunsTexture;
   // What the textures hold: table, its build and precision.
-  vtkPreIntegrationTable* UploadedTable = nullptr;
+  vtkSecondOrderPreIntegrationTable* UploadedTable = nullptr;
   int UploadedBuildCount = -1;
   int UploadedPrecision = -1;
   vtkIdType TableTextureMemorySize = 0;
   float RawToTable[2] = { 1.0f, 0.0f };
+  // Centre-axis coordinate differences -> chord and deviation coordinates.
+  float ChordScale = 0.0f;
+  float DeviationScale = 0.0f;
 
 private:
   vtkPreIntegrationVolumeMapper(const vtkPreIntegrationVolumeMapper&) = delete;

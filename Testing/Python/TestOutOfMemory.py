@@ -187,13 +187,17 @@ table.SetVolumeProperty(prop)
 table.SetScalarRange(0.0, 255.0)
 table.SetSegmentLength(1.0)
 table.SetTableSize(400)
+table.SetChordSize(400)
+table.SetDeviationSize(400)
 built = limited(table.Update)
 print("table:", messages.errors)
 c.check(not built and len(messages.errors) == 1 and "Not enough memory" in messages.errors[0]
-        and "400^3" in messages.errors[0] and "977 MiB" in messages.errors[0]
+        and "64000000 entries" in messages.errors[0] and "977 MiB" in messages.errors[0]
         and table.GetTable().GetNumberOfTuples() == 0,
         "3D table out of memory: Update() is false, one error with the table's size, no table")
 table.SetTableSize(32)
+table.SetChordSize(32)
+table.SetDeviationSize(32)
 c.check(table.Update() and table.GetTable().GetNumberOfTuples() == 32 ** 3,
         "a smaller table then builds")
 del table

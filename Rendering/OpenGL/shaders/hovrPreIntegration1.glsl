@@ -1,7 +1,7 @@
 // hovr: first-order pre-integrated classification (Engel, Kraus and Ertl 2001; El Hajjar et
 // al., section 3.2.2). The ray is cut into segments between consecutive samples; a segment's
 // premultiplied colour and opacity, self-attenuation included, come from a 2D table over
-// (front scalar, back scalar) built for the sample distance. The first segment starts at the
+// (chord centre (front + back) / 2, chord back - front) built for the sample distance. The first segment starts at the
 // ray's entry point and the last one ends where the ray leaves the volume or is terminated,
 // so that no slab at the faces is lost or counted twice.
 //
@@ -27,7 +27,8 @@ void hovr_compositeSegment(float sFront, float sBack, float fraction)
   {
     return;
   }
-  vec4 segment = texture(hovr_preintTable, vec2(sFront, sBack));
+  vec4 segment =
+    texture(hovr_preintTable, vec2(0.5 * (sFront + sBack), 0.5 + (sBack - sFront) * hovr_chordScale));
   if (fraction < 1.0)
   {
     float alpha = 1.0 - pow(max(1.0 - segment.a, 0.0), fraction);

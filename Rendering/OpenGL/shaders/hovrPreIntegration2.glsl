@@ -1,8 +1,9 @@
 // hovr: second-order pre-integrated classification (El Hajjar, Marchesin, Dischler and
 // Mongenet 2008, Eq. 2-3). The ray is cut into slabs of two sample distances whose front,
 // middle and back samples fix a quadratic scalar profile; a slab's premultiplied colour and
-// opacity, self-attenuation included, come from a 3D table over (front, middle, back) built
-// for that slab length. Each sample is fetched once (a slab's back is the next one's front),
+// opacity, self-attenuation included, come from a 3D table built for that slab length over
+// the chord's centre (front + back) / 2, the chord back - front and the middle sample's
+// deviation from the centre (the same three samples, where slabs fall). Each sample is fetched once (a slab's back is the next one's front),
 // the table once per slab.
 //
 // One iteration of VTK's ray loop handles one slab: the loop's sample is the slab's middle and
@@ -21,6 +22,8 @@
 // hovr_preintExit where VTK's shading code would initialise, sample and finish a ray.
 
 uniform sampler3D hovr_preintTable;
+// Deviation coordinate of a difference of centre-axis coordinates (0 at 1/2).
+uniform float hovr_deviationScale;
 // hovr_emptyRuns, hovr_tableSize, hovr_rawToTable, hovr_tableCoord, hovr_emptyRun and
 // hovr_stepsToExit: hovrPreIntegrationCommon.glsl.
 
@@ -55,7 +58,9 @@ void hovr_compositeSlab(float sf, float sm, float sb, float fraction)
   {
     return;
   }
-  vec4 slab = texture(hovr_preintTable, vec3(sf, sm, sb));
+  float centre = 0.5 * (sf + sb);
+  vec4 slab = texture(hovr_preintTable,
+    vec3(centre, 0.5 + (sb - sf) * hovr_chordScale, 0.5 + (sm - centre) * hovr_deviationScale));
   if (fraction < 1.0)
   {
     float alpha = 1.0 - pow(max(1.0 - slab.a, 0.0), fraction);

@@ -2,128 +2,116 @@
 // hovr: the second-order pre-integration table built on the GPU (El Hajjar, Marchesin,
 // Dischler and Mongenet 2008, section 6.2), drawn by vtkOpenGLPreIntegrationTableBuilder.
 //
-// One full-screen pass per z slice of the N^3 table: the slice is the back scalar k (uniform),
-// fragment (i, j) of the N x N viewport is the entry with front i and middle j. Every step
-// mirrors vtkSecondOrderPreIntegrationTable::BuildTable (the CPU builder), in the same float
-// operations and order, so that both tables agree to float rounding:
-//   - the diagonal i = j = k (constant scalar) is the exact exponential, computed on the CPU;
-//   - a slab whose scalar stays in one zero-opacity run of the iteration table is zero;
-//   - otherwise Iterations midpoint steps along P(t) = A t^2 + B t + C (Eq. 2, by Horner's
-//     rule, in iteration-table units), each step's (c a, a) interpolated linearly between
-//     two texels of the iteration table, composited front to back.
-// The CPU integrates the pair (i, j, k), (k, j, i) with i <= k from one evaluation of the
-// path of (i, j, k), the reversed entry compositing the same steps backwards (entry (k, j, k),
-// where the two coincide, keeps the backward result): the shader does the same so that both
-// round alike.
+// One full-screen pass per z slice of the table: the slice is the deviation k (uniform),
+// fragment (i, j) of the viewport is the entry with chord centre i and chord j. Every step
+// mirrors vtkSecondOrderPreIntegrationTableKernel (the CPU builder's), in the same float
+// operations and order:
+//   - the path of Eq. 2 in the table's axes, in iteration-table samples:
+//     x(t) = x0 + t (b + a t), x0 = p i - chord / 2, b = chord + 4 dev, a = -4 dev;
+//   - a path inside one zero-opacity run of the iteration table is zero;
+//   - otherwise one midpoint step per sample swept (at least 1, at most hovr_maximumSteps),
+//     each step's (c tau, tau) interpolated linearly between two texels of the iteration
+//     table, alpha = 1 - exp(-tau h) (its series below 0.01), composited front to back.
+// The CPU integrates chord j and its mirror ChordSize - 1 - j from one evaluation of the
+// path of the smaller one, the mirror compositing the same steps backwards; the shader does
+// the same so that both round alike.
 
-in vec2 texCoord; // (i + 1/2, j + 1/2) / N at the fragment of entry (i, j)
+in vec2 texCoord; // (i + 1/2, j + 1/2) / (centre entries, chord entries) at entry (i, j)
 //VTK::Output::Dec
 
-// The iteration table, RGBA = (c a, a) of one step, texel q at (q & mask, q >> rowShift).
+// The iteration table, RGBA = (c tau, tau), texel q at (q & mask, q >> rowShift).
 uniform sampler2D hovr_steps;
 // Zero-opacity run of each iteration-table spacing (-1: some opacity), same layout.
 uniform sampler2D hovr_stepRuns;
-// Entry (i, i, i) of the table at texel (i, 0).
-uniform sampler2D hovr_diagonal;
 uniform int hovr_rowShift;
-uniform int hovr_tableSize;         // N
-uniform int hovr_samplesPerSpacing; // iteration-table samples per table spacing
-uniform int hovr_fine;              // iteration-table samples
-uniform int hovr_iterations;
-uniform float hovr_stepWidth; // 1 / iterations, rounded to float as on the CPU
-uniform int hovr_back;        // k, the slice being drawn
+uniform int hovr_centreSize;
+uniform int hovr_samplesPerSpacing; // iteration-table samples per centre spacing
+uniform int hovr_samples;           // iteration-table samples
+uniform int hovr_chordSize;
+uniform int hovr_deviationSize;
+uniform float hovr_chordHalfStep;     // half a chord spacing, in samples
+uniform float hovr_deviationHalfStep; // half a deviation spacing, in samples
+uniform int hovr_maximumSteps;
+uniform float hovr_length; // slab length, world units
+uniform int hovr_deviation; // k, the slice being drawn
 
 ivec2 hovr_texel(int q)
 {
   return ivec2(q & ((1 << hovr_rowShift) - 1), q >> hovr_rowShift);
 }
 
-// ceil(x / d) for d > 0.
-uint hovr_ceilDiv(uint x, uint d)
+// Whether the path stays inside one zero-opacity run: its range over t in [0, 1] is spanned
+// by its ends and, when inside, its extremum.
+bool hovr_isEmpty(float x0, float b, float a)
 {
-  return (x + d - 1u) / d;
-}
-
-// First and last iteration-table spacing that the scalar of slab (front i, middle j, back k)
-// enters: its range over t in [0, 1] is spanned by the ends and, when t = -B / 2A lies
-// inside, the extremum C - B^2 / 4A (Eq. 2). Exact integer arithmetic: the CPU rounds in
-// double, which can only differ where the range ends exactly on a spacing boundary, and a
-// boundary that is only touched is not entered (the slab adds nothing there: the iteration
-// table is zero at both nodes of an empty spacing). So every slab the CPU finds empty is
-// empty here too. The product p b^2 <= 16 (Fine - 1)(N - 1) stays below 2^32 for N <= 4096
-// (the CPU keeps Fine - 1 <= 65536).
-ivec2 hovr_enteredSpacings(int i, int j, int k)
-{
-  int p = hovr_samplesPerSpacing;
-  int a = 2 * i - 4 * j + 2 * k; // A and B in table entries; i <= k
-  int b = -3 * i + 4 * j - k;
-  int first = p * i;
-  int last = p * k - 1;
-  if (a > 0 && b < 0 && -b < 2 * a)
+  float top = float(hovr_samples - 1);
+  float x1 = x0 + b + a;
+  float lo = min(x0, x1);
+  float hi = max(x0, x1);
+  if (a != 0.0)
   {
-    // A minimum inside: floor(p i - p b^2 / 4a).
-    first = p * i - int(hovr_ceilDiv(uint(p) * uint(b * b), uint(4 * a)));
+    float vertex = -b / (2.0 * a);
+    if (vertex > 0.0 && vertex < 1.0)
+    {
+      float extremum = x0 + vertex * (b + a * vertex);
+      lo = min(lo, extremum);
+      hi = max(hi, extremum);
+    }
   }
-  else if (a < 0 && b > 0 && b < -2 * a)
-  {
-    // A maximum inside: the spacing that ends at or above p i + p b^2 / 4|a|.
-    last = p * i + int(hovr_ceilDiv(uint(p) * uint(b * b), uint(-4 * a))) - 1;
-  }
-  return clamp(ivec2(first, last), 0, hovr_fine - 2);
+  lo = min(max(lo, 0.0), top);
+  hi = min(max(hi, 0.0), top);
+  int qlo = min(int(lo), hovr_samples - 2);
+  int qhi = min(int(hi), hovr_samples - 2);
+  float runLo = texelFetch(hovr_stepRuns, hovr_texel(qlo), 0).r;
+  float runHi = texelFetch(hovr_stepRuns, hovr_texel(qhi), 0).r;
+  return runLo >= 0.0 && runLo == runHi;
 }
 
 void main()
 {
-  int n = hovr_tableSize;
-  ivec2 entry = min(ivec2(texCoord * float(n)), ivec2(n - 1));
-  int front = entry.x;
-  int middle = entry.y;
-  int back = hovr_back;
-  if (front == middle && middle == back)
-  {
-    gl_FragData[0] = texelFetch(hovr_diagonal, ivec2(front, 0), 0);
-    return;
-  }
-
-  // The CPU's pair: the path of (i, middle, k) with i <= k, walked backwards for i = back.
-  int i = min(front, back);
-  int k = max(front, back);
-  bool reversed = front >= back;
-
-  ivec2 spacings = hovr_enteredSpacings(i, middle, k);
-  float runFirst = texelFetch(hovr_stepRuns, hovr_texel(spacings.x), 0).r;
-  float runLast = texelFetch(hovr_stepRuns, hovr_texel(spacings.y), 0).r;
-  if (runFirst >= 0.0 && runFirst == runLast)
+  int i = min(int(texCoord.x * float(hovr_centreSize)), hovr_centreSize - 1);
+  int j = min(int(texCoord.y * float(hovr_chordSize)), hovr_chordSize - 1);
+  int mirror = hovr_chordSize - 1 - j;
+  bool reversed = j > mirror;
+  int chordIndex = reversed ? mirror : j;
+  float chord = float(2 * chordIndex - (hovr_chordSize - 1)) * hovr_chordHalfStep;
+  float deviation = float(2 * hovr_deviation - (hovr_deviationSize - 1)) * hovr_deviationHalfStep;
+  float x0 = float(hovr_samplesPerSpacing * i) - 0.5 * chord;
+  float b = chord + 4.0 * deviation;
+  float a = -4.0 * deviation;
+  if (hovr_isEmpty(x0, b, a))
   {
     gl_FragData[0] = vec4(0.0); // inside one zero-opacity run
     return;
   }
+  float sweep = max(abs(b), abs(2.0 * a + b));
+  int n = int(min(max(ceil(sweep), 1.0), float(hovr_maximumSteps)));
+  float h = hovr_length / float(n);
+  float width = 1.0 / float(n);
+  float top = float(hovr_samples - 1);
 
-  // Eq. 2 in iteration-table units (integers, exact in float).
-  float p = float(hovr_samplesPerSpacing);
-  float xf = p * float(i);
-  float xm = p * float(middle);
-  float xb = p * float(k);
-  float a = 2.0 * xf - 4.0 * xm + 2.0 * xb;
-  float b = -3.0 * xf + 4.0 * xm - xb;
-  float top = float(hovr_fine - 1);
-
-  // Front to back: RGBA += T (c a, a), T *= 1 - a. Alpha is accumulated like the colour, not
-  // taken as 1 - T, which in float would lose the opacity of very thin steps.
+  // Front to back: RGBA += T (c alpha, alpha), T *= 1 - alpha. Alpha is accumulated like the
+  // colour, not taken as 1 - T, which in float would lose the opacity of very thin steps.
   vec4 slab = vec4(0.0);
   float transmittance = 1.0;
-  for (int it = 0; it < hovr_iterations; ++it)
+  for (int m = 0; m < n; ++m)
   {
-    int s = reversed ? hovr_iterations - 1 - it : it;
-    float t = (float(s) + 0.5) * hovr_stepWidth;
-    float x = min(max(xf + t * (b + a * t), 0.0), top);
-    int q = min(int(x), hovr_fine - 2);
+    int s = reversed ? n - 1 - m : m;
+    float t = (float(s) + 0.5) * width;
+    float x = min(max(x0 + t * (b + a * t), 0.0), top);
+    int q = min(int(x), hovr_samples - 2);
     float w = x - float(q);
     vec4 v0 = texelFetch(hovr_steps, hovr_texel(q), 0);
     vec4 v1 = texelFetch(hovr_steps, hovr_texel(q + 1), 0);
     vec4 v = v0 + w * (v1 - v0);
-    slab += transmittance * v;
-    transmittance *= 1.0 - v.a;
+    float depth = v.a * h;
+    float alpha = depth < 0.01 ? depth * (1.0 - depth * (0.5 - depth * (1.0 / 6.0)))
+                               : 1.0 - exp(-depth);
+    // Colour weight alpha / tau: the step's length where tau vanishes.
+    float weight = v.a > 0.0 ? alpha / v.a : h;
+    vec4 step = vec4(v.rgb * weight, alpha);
+    slab += transmittance * step;
+    transmittance *= 1.0 - alpha;
   }
   gl_FragData[0] = vec4(slab.rgb, min(slab.a, 1.0)); // 1 at most, up to rounding
 }

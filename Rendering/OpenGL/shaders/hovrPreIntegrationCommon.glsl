@@ -6,8 +6,13 @@
 // Zero-opacity run of each table spacing (-1: some opacity), read with texelFetch.
 uniform sampler2D hovr_emptyRuns;
 uniform int hovr_tableSize;
-// Table texture coordinate of a raw texture value: raw * x + y.
+// Centre-axis texture coordinate of a raw texture value: raw * x + y. The table's axes are
+// the chord's centre (front + back) / 2, the chord back - front and, for second order, the
+// deviation of the middle sample from the centre; all are affine in the samples, so their
+// coordinates follow from the samples' centre-axis coordinates.
 uniform vec2 hovr_rawToTable;
+// Chord coordinate of a difference of centre-axis coordinates (0 at 1/2).
+uniform float hovr_chordScale;
 
 float hovr_tableCoord(vec3 pos)
 {

@@ -24,6 +24,7 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   vtkNew<vtkPreIntegrationVolumeMapper> mapper;
   this->Integration = mapper->GetIntegration();
   this->TableSize = mapper->GetTableSize();
+  this->TableMemoryLimit = mapper->GetTableMemoryLimit();
   this->TablePrecision = mapper->GetTablePrecision();
   this->Iterations = mapper->GetIterations();
   this->TablePrefilter = mapper->GetTablePrefilter();
@@ -121,6 +122,7 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
   {
     mapper->SetIntegration(this->Integration);
     mapper->SetTableSize(this->TableSize);
+    mapper->SetTableMemoryLimit(this->TableMemoryLimit);
     mapper->SetTablePrecision(this->TablePrecision);
     mapper->SetIterations(this->Iterations);
     mapper->SetTablePrefilter(this->TablePrefilter);
@@ -197,6 +199,7 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
   os << indent << "Cropping: " << this->Cropping << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "TableMemoryLimit: " << this->TableMemoryLimit << "\n";
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "TablePrefilter: " << (this->TablePrefilter ? "On" : "Off") << "\n";

@@ -91,6 +91,15 @@ public:
 
   ///@{
   /**
+   * The largest table the measured sizes consider, in bytes (see
+   * vtkPreIntegrationVolumeMapper::SetTableMemoryLimit). Initial value is the mapper's, 64 MiB.
+   */
+  vtkSetMacro(TableMemoryLimit, double);
+  vtkGetMacro(TableMemoryLimit, double);
+  ///@}
+
+  ///@{
+  /**
    * Storage of the table on the GPU: a value of
    * vtkPreIntegrationVolumeMapper::TablePrecisions, passed on unchanged (the mapper clamps it).
    * Initial value is the mapper's, PRECISION_AUTOMATIC.
@@ -101,8 +110,8 @@ public:
 
   ///@{
   /**
-   * Integration steps per entry of the second-order table (see
-   * vtkPreIntegrationVolumeMapper::SetIterations), clamped to the table's range [1, 4096].
+   * The most integration steps per entry of the table (see
+   * vtkPreIntegrationVolumeMapper::SetIterations), clamped to [1, 4096].
    * Initial value is the mapper's, 64.
    */
   vtkSetClampMacro(Iterations, int, 1, 4096);
@@ -111,8 +120,8 @@ public:
 
   ///@{
   /**
-   * Box-average the transfer function over one entry spacing of the second-order table (see
-   * vtkPreIntegrationVolumeMapper::SetTablePrefilter). Initial value is the mapper's, true.
+   * Box-average the transfer function over one entry spacing of the table's centre axis (see
+   * vtkPreIntegrationVolumeMapper::SetTablePrefilter). Initial value is the mapper's, false.
    */
   vtkSetMacro(TablePrefilter, bool);
   vtkGetMacro(TablePrefilter, bool);
@@ -182,6 +191,7 @@ protected:
   int Cropping = 0;
   double SampleDistance = 0.0;
   int TableSize;
+  double TableMemoryLimit;
   int TablePrecision;
   int Iterations;
   bool TablePrefilter;

@@ -5,11 +5,14 @@
 // the colour function, the opacity function, the opacity unit distance, the sample distance or
 // the scalar range. Switching Integration STOCK <-> FIRST_ORDER changes the program (the
 // images are VTK's stock image and the pre-integrated one again, exactly) but not the table.
+// The table has a fixed size here; with measured sizes (TableSize 0) a camera move still
+// rebuilds nothing, and a change of the transfer function measures and rebuilds once.
 #include "hovrRenderTestUtilities.h"
 
-#include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "vtkPreIntegrationTableSizer.h"
 #include "vtkPreIntegrationVolumeMapper.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkVolume.h"
 
 #include <iostream>
@@ -48,7 +51,8 @@ int TestPreIntegrationTableRebuilds(int, char*[])
   volume->SetMapper(mapper);
   volume->SetProperty(property);
   view.GetRenderer()->AddVolume(volume);
-  vtkFirstOrderPreIntegrationTable* table = mapper->GetFirstOrderTable();
+  mapper->SetTableSize(256); // the rebuild logic alone, without measured sizes
+  vtkSecondOrderPreIntegrationTable* table = mapper->GetFirstOrderTable();
 
   // Renders twice: the change must rebuild the table on the first frame and not on the second.
   // Returns the first frame's image.
@@ -133,6 +137,26 @@ int TestPreIntegrationTableRebuilds(int, char*[])
   auto backToFirstOrder = renderExpecting(false, "Integration FIRST_ORDER again");
   check(mapper->GetExtensionFrameCount() == frames + 2, "FIRST_ORDER frames use the extension");
   check(MaxDifference(backToFirstOrder, widened) == 0.0, "FIRST_ORDER image is back, exactly");
+
+  // Measured sizes: measured and built once, kept while only the camera moves.
+  mapper->SetTableSize(0);
+  auto measured = renderExpecting(true, "measured table sizes");
+  check(
+    mapper->GetTableSizer()->GetChosenCandidate() >= 0 &&
+      table->GetTableSize() ==
+        [&]()
+        {
+          int sizes[3];
+          mapper->GetTableSizer()->GetCandidateSizes(
+            mapper->GetTableSizer()->GetChosenCandidate(), sizes);
+          return sizes[0];
+        }(),
+    "the table has the measured size");
+  check(hovrTest::CountCovered(measured) > size * size / 10, "measured sizes: the volume is drawn");
+  view.GetCamera()->Azimuth(25.0);
+  renderExpecting(false, "measured sizes, camera moved");
+  property->GetScalarOpacity(0)->AddPoint(0.5, 0.6);
+  renderExpecting(true, "measured sizes, opacity function changed");
 
   hovrTest::ExpectQuiet(check, errors, "the whole test");
   return check.Result("TestPreIntegrationTableRebuilds");

@@ -6,10 +6,10 @@
 // not missed).
 #include "hovrRenderTestUtilities.h"
 
-#include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkRegressionTestImage.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkVolume.h"
 
 #include <iostream>

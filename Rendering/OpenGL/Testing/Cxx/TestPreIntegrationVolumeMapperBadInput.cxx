@@ -10,10 +10,9 @@
 // correctly: each agrees with its own CPU reference (GetTextureValueMapping).
 #include "hovrRenderTestUtilities.h"
 
-#include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
-#include "vtkPreIntegrationTable.h"
 #include "vtkPreIntegrationVolumeMapper.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkVolume.h"
 
 #include <iostream>

@@ -1,0 +1,397 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkPreIntegrationRayMarch
+ * @brief   one ray through the trilinear field as the pre-integration GLSL composites it
+ *
+ * The CPU mirror, in double, of hovrPreIntegration1.glsl and hovrPreIntegration2.glsl:
+ * samples one step apart from the point where the ray enters the box of the volume's points,
+ * the first a full step inside; first order composites the segment between consecutive
+ * samples and the partial last one up to the exit; second order the slab of two steps
+ * (front, middle, back) and what remains as a shorter slab through its front, midpoint and
+ * end; a ray stops once its opacity exceeds the threshold. What a segment or slab contributes
+ * comes from a Pieces policy:
+ *   - TablePieces reads a table as linear texture filtering does (entries at texel centres,
+ *     clamp-to-edge) and scales partial pieces as the GLSL does (colour per opacity kept,
+ *     optical depth scaled by the length);
+ *   - ExactPieces integrates the model scalar path (linear or quadratic, Eq. 2) through the
+ *     transfer function, with pieces no wider than a scalar step, in double.
+ * vtkPreIntegrationRayCaster renders camera images with it; vtkPreIntegrationTableSizer
+ * measures candidate tables on random rays with it.
+ */
+#ifndef vtkPreIntegrationRayMarch_h
+#define vtkPreIntegrationRayMarch_h
+
+#include "vtkFloatArray.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
+#include "vtkType.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+class vtkPreIntegrationRayMarch
+{
+public:
+  // The volume: point values (x fastest) on a grid of Dims points, positions in 0-based
+  // continuous grid index.
+  struct Grid
+  {
+    const double* Values = nullptr;
+    int Dims[3] = { 2, 2, 2 };
+
+    // Trilinear value at p (clamped to the box of the points).
+    double Sample(const double p[3]) const
+    {
+      int cell[3];
+      double w[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        const double x = std::min(std::max(p[a], 0.0), this->Dims[a] - 1.0);
+        cell[a] = std::min(static_cast<int>(x), this->Dims[a] - 2);
+        w[a] = x - cell[a];
+      }
+      const vtkIdType sy = this->Dims[0];
+      const vtkIdType sz = sy * this->Dims[1];
+      const double* v = this->Values + cell[0] + sy * cell[1] + sz * cell[2];
+      const double c00 = v[0] + w[0] * (v[1] - v[0]);
+      const double c10 = v[sy] + w[0] * (v[sy + 1] - v[sy]);
+      const double c01 = v[sz] + w[0] * (v[sz + 1] - v[sz]);
+      const double c11 = v[sz + sy] + w[0] * (v[sz + sy + 1] - v[sz + sy]);
+      const double c0 = c00 + w[1] * (c10 - c00);
+      const double c1 = c01 + w[1] * (c11 - c01);
+      return c0 + w[2] * (c1 - c0);
+    }
+
+    // The interval [t0, t1] of the ray o + t v (t >= 0) inside the box of the points; false
+    // when it misses.
+    bool Clip(const double o[3], const double v[3], double& t0, double& t1) const
+    {
+      t0 = 0.0;
+      t1 = 1e300;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (v[a] == 0.0)
+        {
+          if (o[a] < 0.0 || o[a] > this->Dims[a] - 1.0)
+          {
+            return false;
+          }
+          continue;
+        }
+        const double ta = -o[a] / v[a], tb = (this->Dims[a] - 1.0 - o[a]) / v[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      return t1 > t0;
+    }
+  };
+
+  // A table's entries and axes: axis a has Size[a] entries at values Low[a] + i / ToIndex[a].
+  // Chords: the axes are (chord centre, chord, deviation) (vtkSecondOrderPreIntegrationTable),
+  // else (front, back) (vtkFirstOrderPreIntegrationTable).
+  struct TableView
+  {
+    const float* Entries = nullptr;
+    int Dimensions = 2;
+    int Size[3] = { 1, 1, 1 };
+    double Low[3] = { 0, 0, 0 }, ToIndex[3] = { 0, 0, 0 };
+    bool Chords = false;
+
+    // The view of a built table (its scalar range, sizes and, for a
+    // vtkSecondOrderPreIntegrationTable, chord and deviation ranges).
+    static TableView Of(vtkPreIntegrationTable* table)
+    {
+      TableView view;
+      view.Entries = table->GetTable()->GetPointer(0);
+      view.Dimensions = table->GetNumberOfDimensions();
+      const double* range = table->GetScalarRange();
+      const int n = table->GetTableSize();
+      for (int a = 0; a < view.Dimensions; ++a)
+      {
+        view.Size[a] = n;
+        view.Low[a] = range[0];
+        view.ToIndex[a] = (n - 1) / (range[1] - range[0]);
+      }
+      if (auto* chords = vtkSecondOrderPreIntegrationTable::SafeDownCast(table))
+      {
+        view.Chords = true;
+        const double extents[2] = { chords->GetEffectiveChordRange(),
+          chords->GetEffectiveDeviationRange() };
+        const int sizes[2] = { chords->GetChordSize(), chords->GetDeviationSize() };
+        for (int a = 1; a < 3; ++a)
+        {
+          view.Size[a] = sizes[a - 1];
+          view.Low[a] = -extents[a - 1];
+          view.ToIndex[a] = sizes[a - 1] > 1 && extents[a - 1] > 0.0
+            ? (sizes[a - 1] - 1) / (2.0 * extents[a - 1])
+            : 0.0;
+        }
+      }
+      return view;
+    }
+
+    // Continuous index along axis a, clamped to the edge entries.
+    double Index(int a, double value) const
+    {
+      return this->Size[a] < 2 ? 0.0
+                               : std::min(std::max((value - this->Low[a]) * this->ToIndex[a], 0.0),
+                                   static_cast<double>(this->Size[a] - 1));
+    }
+
+    // The axis values of a segment (front, back) or of a slab (front, middle, back).
+    void SegmentAxes(double sf, double sb, double v[3]) const
+    {
+      const double c = 0.5 * (sf + sb);
+      v[0] = this->Chords ? c : sf;
+      v[1] = this->Chords ? sb - sf : sb;
+      v[2] = 0.0;
+    }
+    static void SlabAxes(double sf, double sm, double sb, double v[3])
+    {
+      const double c = 0.5 * (sf + sb);
+      v[0] = c;
+      v[1] = sb - sf;
+      v[2] = sm - c;
+    }
+
+    // The corners of the interpolation cell of axis values v and their weights (2^Dimensions
+    // of them; corners of a 1-entry axis repeat with weight 0).
+    void Corners(const double v[3], vtkIdType index[8], double weight[8]) const
+    {
+      int i[3] = { 0, 0, 0 };
+      double w[3] = { 0, 0, 0 };
+      for (int a = 0; a < this->Dimensions; ++a)
+      {
+        const double x = this->Index(a, v[a]);
+        i[a] = std::min(static_cast<int>(x), std::max(this->Size[a] - 2, 0));
+        w[a] = x - i[a];
+      }
+      const int corners = 1 << this->Dimensions;
+      for (int c = 0; c < corners; ++c)
+      {
+        double product = 1.0;
+        vtkIdType offset = 0, stride = 1;
+        for (int a = 0; a < this->Dimensions; ++a)
+        {
+          const int bit = (c >> a) & 1;
+          product *= bit ? w[a] : 1.0 - w[a];
+          offset += (i[a] + (this->Size[a] > 1 ? bit : 0)) * stride;
+          stride *= this->Size[a];
+        }
+        index[c] = offset;
+        weight[c] = product;
+      }
+    }
+  };
+
+  // A partial piece of the GLSL: colour per opacity kept, optical depth scaled.
+  static void Scale(double rgba[4], double fraction)
+  {
+    if (fraction < 1.0)
+    {
+      const double alpha = 1.0 - std::pow(std::max(1.0 - rgba[3], 0.0), fraction);
+      const double scale = rgba[3] > 1e-6 ? alpha / rgba[3] : fraction;
+      for (int c = 0; c < 3; ++c)
+      {
+        rgba[c] *= scale;
+      }
+      rgba[3] = alpha;
+    }
+  }
+
+  // Segments and slabs read from a table (every entry computed).
+  struct TablePieces
+  {
+    TableView Table;
+
+    void Read(const double v[3], double fraction, double rgba[4]) const
+    {
+      vtkIdType index[8];
+      double weight[8];
+      this->Table.Corners(v, index, weight);
+      std::fill(rgba, rgba + 4, 0.0);
+      for (int c = 0; c < (1 << this->Table.Dimensions); ++c)
+      {
+        const float* e = this->Table.Entries + 4 * index[c];
+        for (int k = 0; k < 4; ++k)
+        {
+          rgba[k] += weight[c] * e[k];
+        }
+      }
+      Scale(rgba, fraction);
+    }
+    void Segment(double sf, double sb, double fraction, double length, double rgba[4]) const
+    {
+      (void)length;
+      double v[3];
+      this->Table.SegmentAxes(sf, sb, v);
+      this->Read(v, fraction, rgba);
+    }
+    void Slab(double sf, double sm, double sb, double fraction, double length, double rgba[4]) const
+    {
+      (void)length;
+      double v[3];
+      TableView::SlabAxes(sf, sm, sb, v);
+      this->Read(v, fraction, rgba);
+    }
+  };
+
+  // Segments and slabs integrated along their model scalar path.
+  struct ExactPieces
+  {
+    const vtkVolumeTransferFunctionSampler* Sampler = nullptr;
+    // Largest scalar change per integration piece, as a fraction of the narrowest feature the
+    // path meets (features wider than DataRange count as that wide): the reference's rule.
+    double Tolerance = 1.0 / 64.0;
+    double DataRange = 1.0;
+
+    // The path P(u) = f + b u + a u^2, u in [0, 1], over a world length.
+    void Integrate(double f, double b, double a, double length, double rgba[4]) const
+    {
+      // |P'| <= max(|b|, |2a + b|) on [0, 1]; the path's range: its ends and extremum.
+      const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
+      double lo = std::min(f, f + b + a), hi = std::max(f, f + b + a);
+      const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
+      if (vertex > 0.0 && vertex < 1.0)
+      {
+        lo = std::min(lo, f + vertex * (b + a * vertex));
+        hi = std::max(hi, f + vertex * (b + a * vertex));
+      }
+      const double feature = std::min(this->Sampler->GetSmallestFeature(lo, hi), this->DataRange);
+      const double step = feature > 0.0 && feature < 1e300 ? this->Tolerance * feature : 1e300;
+      const int n = static_cast<int>(std::min(std::max(std::ceil(sweep / step), 1.0), 1e5));
+      const double h = length / n;
+      double transmittance = 1.0;
+      std::fill(rgba, rgba + 4, 0.0);
+      for (int k = 0; k < n; ++k)
+      {
+        const double u = (k + 0.5) / n;
+        double sample[4];
+        this->Sampler->Evaluate(f + u * (b + u * a), sample);
+        const double alpha = -std::expm1(-sample[3] * h);
+        const double weight = transmittance * alpha;
+        for (int c = 0; c < 3; ++c)
+        {
+          rgba[c] += weight * sample[c];
+        }
+        transmittance *= 1.0 - alpha;
+      }
+      rgba[3] = 1.0 - transmittance;
+    }
+    void Segment(double sf, double sb, double fraction, double length, double rgba[4]) const
+    {
+      this->Integrate(sf, sb - sf, 0.0, fraction * length, rgba);
+    }
+    void Slab(double sf, double sm, double sb, double fraction, double length, double rgba[4]) const
+    {
+      // Eq. 2: P(u) = A u^2 + B u + sf.
+      this->Integrate(
+        sf, -3.0 * sf + 4.0 * sm - sb, 2.0 * sf - 4.0 * sm + 2.0 * sb, fraction * length, rgba);
+    }
+  };
+
+  // Front-to-back compositing; false once the ray is opaque enough to stop. NaN pieces (a
+  // NaN sample) add nothing.
+  static bool Composite(const double piece[4], double threshold, double rgba[4])
+  {
+    if (std::isnan(piece[0] + piece[1] + piece[2] + piece[3]))
+    {
+      return true;
+    }
+    const double t = 1.0 - rgba[3];
+    for (int c = 0; c < 4; ++c)
+    {
+      rgba[c] += t * piece[c];
+    }
+    return rgba[3] <= threshold;
+  }
+
+  /**
+   * The ray o + t v (grid index; t in world units, v the index-space image of a unit world
+   * direction) from t0 to t1 inside the box, samples `step` apart, `order` 1 or 2.
+   */
+  template <class Pieces>
+  static void Cast(const Grid& grid,
+    const Pieces& pieces,
+    int order,
+    double step,
+    double threshold,
+    const double o[3],
+    const double v[3],
+    double t0,
+    double t1,
+    double rgba[4])
+  {
+    std::fill(rgba, rgba + 4, 0.0);
+    auto at = [&](double t)
+    {
+      const double p[3] = { o[0] + t * v[0], o[1] + t * v[1], o[2] + t * v[2] };
+      return grid.Sample(p);
+    };
+    const double h = step;
+    const double length = t1 - t0;
+    double piece[4];
+    double sFront = at(t0);
+    if (order == 1)
+    {
+      // Samples at t0 + k h, k >= 1; segments between them, the last one up to the exit,
+      // looked up between the last sample and the exit.
+      for (int k = 1;; ++k)
+      {
+        const bool last = k * h >= length;
+        const double fraction = last ? (length - (k - 1) * h) / h : 1.0;
+        if (!(fraction > 0.0))
+        {
+          break;
+        }
+        const double sBack = at(last ? t1 : t0 + k * h);
+        // A NaN sample makes its segments transparent (the GLSL skips them).
+        if (std::isnan(sFront + sBack))
+        {
+          std::fill(piece, piece + 4, 0.0);
+        }
+        else
+        {
+          pieces.Segment(sFront, sBack, fraction, h, piece);
+        }
+        if (!Composite(piece, threshold, rgba) || last)
+        {
+          break;
+        }
+        sFront = sBack;
+      }
+      return;
+    }
+    // Slabs (front, middle, back) of two samples from the entry; the rest as one piece
+    // through its front, midpoint and end.
+    double front = 0.0; // distance of the slab's front from the entry
+    while (front + 2.0 * h <= length)
+    {
+      const double sMiddle = at(t0 + front + h);
+      const double sBack = at(t0 + front + 2.0 * h);
+      if (std::isnan(sFront + sMiddle + sBack))
+      {
+        std::fill(piece, piece + 4, 0.0);
+      }
+      else
+      {
+        pieces.Slab(sFront, sMiddle, sBack, 1.0, 2.0 * h, piece);
+      }
+      if (!Composite(piece, threshold, rgba))
+      {
+        return;
+      }
+      sFront = sBack;
+      front += 2.0 * h;
+    }
+    const double rest = length - front;
+    const double sMiddle = at(t0 + front + 0.5 * rest), sBack = at(t1);
+    if (rest > 0.0 && !std::isnan(sFront + sMiddle + sBack))
+    {
+      pieces.Slab(sFront, sMiddle, sBack, rest / (2.0 * h), 2.0 * h, piece);
+      Composite(piece, threshold, rgba);
+    }
+  }
+};
+
+#endif

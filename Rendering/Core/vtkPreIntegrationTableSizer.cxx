@@ -1,0 +1,757 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkPreIntegrationTableSizer.h"
+
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMinimalStandardRandomSequence.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPreIntegrationRayMarch.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
+#include "vtkTimerLog.h"
+#include "vtkVolumeReferenceIntegrator.h"
+#include "vtkVolumeTransferFunctionSampler.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <new>
+#include <thread>
+#include <vector>
+
+vtkStandardNewMacro(vtkPreIntegrationTableSizer);
+
+namespace
+{
+using March = vtkPreIntegrationRayMarch;
+
+struct Candidate
+{
+  int Sizes[3];
+  double Error;
+  double Memory;
+  std::vector<double> PerRay; // squared errors of the rays
+};
+
+// The random rays: index-space origin, direction, and interval inside the box.
+struct Ray
+{
+  double O[3], V[3], T0, T1;
+};
+
+// Records the largest chord and deviation the rays meet; composites nothing, so every ray
+// runs to its exit.
+struct RecordPieces
+{
+  vtkSMPThreadLocal<double>* Chord;
+  vtkSMPThreadLocal<double>* Deviation;
+  void Segment(double sf, double sb, double, double, double rgba[4]) const
+  {
+    if (!std::isnan(sf + sb))
+    {
+      double& chord = this->Chord->Local();
+      chord = std::max(chord, std::abs(sb - sf));
+    }
+    std::fill(rgba, rgba + 4, 0.0);
+  }
+  void Slab(double sf, double sm, double sb, double, double, double rgba[4]) const
+  {
+    if (!std::isnan(sf + sm + sb))
+    {
+      double& chord = this->Chord->Local();
+      double& deviation = this->Deviation->Local();
+      chord = std::max(chord, std::abs(sb - sf));
+      deviation = std::max(deviation, std::abs(sm - 0.5 * (sf + sb)));
+    }
+    std::fill(rgba, rgba + 4, 0.0);
+  }
+};
+
+// A candidate table whose entries are integrated when a ray first reads them, by the
+// builders' own kernel (so they equal the built table's), safely from several threads.
+struct LazyPieces
+{
+  March::TableView View;
+  vtkSecondOrderPreIntegrationTableKernel Kernel;
+  const float* Samples;
+  const float* Runs;
+  float* Entries;
+  std::atomic<unsigned char>* States; // 0: not computed, 1: being computed, 2: ready
+
+  void Ensure(vtkIdType index) const
+  {
+    std::atomic<unsigned char>& state = this->States[index];
+    if (state.load(std::memory_order_acquire) == 2)
+    {
+      return;
+    }
+    unsigned char expected = 0;
+    if (state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel))
+    {
+      const int nc = this->View.Size[0], nb = this->View.Size[1];
+      const int i = static_cast<int>(index % nc);
+      const int j = static_cast<int>((index / nc) % nb);
+      const int k = static_cast<int>(index / (static_cast<vtkIdType>(nc) * nb));
+      const int mirror = nb - 1 - j;
+      std::vector<float> steps;
+      float forward[4];
+      float* entry = this->Entries + 4 * index;
+      // As the builder: chord j > mirror is the reversed path of the mirror's.
+      if (j <= mirror)
+      {
+        this->Kernel.Integrate(i, j, k, this->Samples, this->Runs, steps, entry, nullptr);
+      }
+      else
+      {
+        this->Kernel.Integrate(i, mirror, k, this->Samples, this->Runs, steps, forward, entry);
+      }
+      state.store(2, std::memory_order_release);
+      return;
+    }
+    while (state.load(std::memory_order_acquire) != 2)
+    {
+      std::this_thread::yield();
+    }
+  }
+
+  void Read(const double v[3], double fraction, double rgba[4]) const
+  {
+    vtkIdType index[8];
+    double weight[8];
+    this->View.Corners(v, index, weight);
+    std::fill(rgba, rgba + 4, 0.0);
+    for (int c = 0; c < (1 << this->View.Dimensions); ++c)
+    {
+      this->Ensure(index[c]);
+      const float* e = this->Entries + 4 * index[c];
+      for (int k = 0; k < 4; ++k)
+      {
+        rgba[k] += weight[c] * e[k];
+      }
+    }
+    March::Scale(rgba, fraction);
+  }
+  void Segment(double sf, double sb, double fraction, double, double rgba[4]) const
+  {
+    double v[3];
+    this->View.SegmentAxes(sf, sb, v);
+    this->Read(v, fraction, rgba);
+  }
+  void Slab(double sf, double sm, double sb, double fraction, double, double rgba[4]) const
+  {
+    double v[3];
+    March::TableView::SlabAxes(sf, sm, sb, v);
+    this->Read(v, fraction, rgba);
+  }
+};
+}
+
+struct vtkPreIntegrationTableSizer::vtkInternals
+{
+  std::vector<Candidate> Candidates;
+  std::vector<Ray> Rays;
+  std::vector<double> Reference;
+  std::vector<double> Values;
+  March::Grid Grid;
+  int Order = 2;
+  double Step = 1.0;
+  double Threshold = 1.0;
+  vtkSecondOrderPreIntegrationTable* Table = nullptr; // the prepared one
+  vtkNew<vtkSecondOrderPreIntegrationTable> Scratch;  // candidates' iteration tables
+  std::vector<double> LastPerRay;                     // of the last Measure()
+
+  // The rays composited with pieces: each ray's squared error against the reference (mean
+  // over the four channels) into perRay, and the RMSE over all rays.
+  template <class Pieces>
+  double Measure(const Pieces& pieces, std::vector<double>& perRay) const
+  {
+    perRay.assign(this->Rays.size(), 0.0);
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(this->Rays.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType r = begin; r < end; ++r)
+        {
+          const Ray& ray = this->Rays[r];
+          double rgba[4];
+          March::Cast(this->Grid,
+            pieces,
+            this->Order,
+            this->Step,
+            this->Threshold,
+            ray.O,
+            ray.V,
+            ray.T0,
+            ray.T1,
+            rgba);
+          double sum = 0.0;
+          for (int c = 0; c < 4; ++c)
+          {
+            const double d = rgba[c] - this->Reference[4 * r + c];
+            sum += d * d;
+          }
+          perRay[r] = 0.25 * sum;
+        }
+      });
+    double total = 0.0;
+    for (double e : perRay)
+    {
+      total += e;
+    }
+    return std::sqrt(total / std::max<size_t>(perRay.size(), 1));
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTableSizer::vtkPreIntegrationTableSizer()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTableSizer::~vtkPreIntegrationTableSizer() = default;
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationTableSizer::GetNumberOfCandidates() const
+{
+  return static_cast<int>(this->Internals->Candidates.size());
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::GetCandidateSizes(int candidate, int sizes[3]) const
+{
+  const auto& all = this->Internals->Candidates;
+  if (candidate >= 0 && candidate < static_cast<int>(all.size()))
+  {
+    std::copy(all[candidate].Sizes, all[candidate].Sizes + 3, sizes);
+  }
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationTableSizer::GetCandidateError(int candidate) const
+{
+  const auto& all = this->Internals->Candidates;
+  return candidate >= 0 && candidate < static_cast<int>(all.size()) ? all[candidate].Error : 0.0;
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationTableSizer::GetCandidateMemory(int candidate) const
+{
+  const auto& all = this->Internals->Candidates;
+  return candidate >= 0 && candidate < static_cast<int>(all.size()) ? all[candidate].Memory : 0.0;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
+  vtkDataArray* scalars,
+  vtkSecondOrderPreIntegrationTable* table,
+  int order,
+  double sampleDistance)
+{
+  vtkInternals& I = *this->Internals;
+  I.Candidates.clear();
+  I.Table = nullptr;
+  this->ChosenCandidate = -1;
+  if (!volume || !scalars || !table || (order != 1 && order != 2) || !(sampleDistance > 0.0) ||
+    scalars->GetNumberOfComponents() != 1)
+  {
+    vtkErrorMacro("The sizer needs a volume, its single-component point scalars, a table, "
+                  "order 1 or 2 and a positive sample distance.");
+    return false;
+  }
+  int dims[3];
+  volume->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
+    scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
+  {
+    vtkErrorMacro("The volume needs at least 2 points along each axis and one scalar per point.");
+    return false;
+  }
+  vtkVolumeTransferFunctionSampler* sampler = table->GetSampler();
+  if (!sampler->Prepare())
+  {
+    return false;
+  }
+  const double* range = table->GetScalarRange();
+  const double width = range[1] - range[0];
+  if (!(width > 0.0) || !std::isfinite(width))
+  {
+    vtkErrorMacro("The table's scalar range must be finite and non-empty.");
+    return false;
+  }
+
+  // The volume in double, and the world -> 0-based grid index map.
+  try
+  {
+    I.Values.resize(static_cast<size_t>(scalars->GetNumberOfTuples()));
+  }
+  catch (const std::bad_alloc&)
+  {
+    vtkErrorMacro("Not enough memory for a double copy of the volume.");
+    return false;
+  }
+  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
+  {
+    I.Values[i] = scalars->GetComponent(i, 0);
+  }
+  I.Grid.Values = I.Values.data();
+  std::copy(dims, dims + 3, I.Grid.Dims);
+  I.Order = order;
+  I.Step = sampleDistance;
+  I.Threshold = this->OpacityThreshold;
+  vtkNew<vtkMatrix4x4> toIndex;
+  toIndex->DeepCopy(volume->GetPhysicalToIndexMatrix());
+  const int* extent = volume->GetExtent();
+  for (int r = 0; r < 3; ++r)
+  {
+    toIndex->SetElement(r, 3, toIndex->GetElement(r, 3) - extent[2 * r]);
+  }
+
+  // Random rays: a uniform direction, then a uniform point of the disc through the volume's
+  // centre across it (as the pixels of a parallel view), from outside the volume.
+  double bounds[6];
+  volume->GetBounds(bounds);
+  const double centre[3] = {
+    0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])
+  };
+  const double radius = 0.5 * volume->GetLength();
+  // The four coordinates of ray i come from a Halton sequence (bases 2, 3, 5, 7) shifted
+  // modulo 1 by the seed's random offsets: evenly spread rays, whose error estimates vary
+  // much less from one seed to another than independent random rays do.
+  vtkNew<vtkMinimalStandardRandomSequence> random;
+  random->SetSeed(this->Seed);
+  double shift[4];
+  for (double& value : shift)
+  {
+    random->Next();
+    value = random->GetValue();
+  }
+  auto halton = [](int index, int base)
+  {
+    double value = 0.0, scale = 1.0 / base;
+    for (; index > 0; index /= base, scale /= base)
+    {
+      value += scale * (index % base);
+    }
+    return value;
+  };
+  I.Rays.clear();
+  for (int attempt = 0;
+       attempt < 8 * this->NumberOfRays && static_cast<int>(I.Rays.size()) < this->NumberOfRays;
+       ++attempt)
+  {
+    static const int bases[4] = { 2, 3, 5, 7 };
+    double u[4];
+    for (int k = 0; k < 4; ++k)
+    {
+      u[k] = halton(attempt + 1, bases[k]) + shift[k];
+      u[k] -= std::floor(u[k]);
+    }
+    const double z = 2.0 * u[0] - 1.0, phi = 2.0 * vtkMath::Pi() * u[1];
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double d[3] = { s * std::cos(phi), s * std::sin(phi), z };
+    double e1[3], e2[3];
+    vtkMath::Perpendiculars(d, e1, e2, 0.0);
+    const double r = radius * std::sqrt(u[2]), theta = 2.0 * vtkMath::Pi() * u[3];
+    double world[4] = { 0, 0, 0, 1 }, direction[4] = { d[0], d[1], d[2], 0 };
+    for (int a = 0; a < 3; ++a)
+    {
+      world[a] =
+        centre[a] + r * (std::cos(theta) * e1[a] + std::sin(theta) * e2[a]) - 2.0 * radius * d[a];
+    }
+    Ray ray;
+    double o[4], v[4];
+    toIndex->MultiplyPoint(world, o);
+    toIndex->MultiplyPoint(direction, v);
+    std::copy(o, o + 3, ray.O);
+    std::copy(v, v + 3, ray.V);
+    if (I.Grid.Clip(ray.O, ray.V, ray.T0, ray.T1))
+    {
+      I.Rays.push_back(ray);
+    }
+  }
+  this->NumberOfRaysInVolume = static_cast<int>(I.Rays.size());
+
+  // Ground truth along them. The reference integrator's own tolerance is 1/64: 1/16 costs a
+  // quarter, and its error (about 16 times the default's) is the same for every candidate.
+  const double tolerance = 1.0 / 16.0;
+  {
+    std::vector<double> origins, directions;
+    for (const Ray& ray : I.Rays)
+    {
+      origins.insert(origins.end(), ray.O, ray.O + 3);
+      directions.insert(directions.end(), ray.V, ray.V + 3);
+    }
+    I.Reference.assign(4 * I.Rays.size(), 0.0);
+    vtkVolumeReferenceIntegrator::IntegrateRays(I.Values.data(),
+      dims,
+      sampler,
+      tolerance,
+      width,
+      1e-7,
+      static_cast<vtkIdType>(I.Rays.size()),
+      origins.data(),
+      directions.data(),
+      I.Reference.data());
+  }
+
+  // The chords and deviations the rays meet.
+  vtkSMPThreadLocal<double> chords(0.0), deviations(0.0);
+  {
+    RecordPieces record{ &chords, &deviations };
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(I.Rays.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType r = begin; r < end; ++r)
+        {
+          double rgba[4];
+          March::Cast(I.Grid,
+            record,
+            order,
+            sampleDistance,
+            1.0,
+            I.Rays[r].O,
+            I.Rays[r].V,
+            I.Rays[r].T0,
+            I.Rays[r].T1,
+            rgba);
+        }
+      });
+  }
+  this->MeasuredChordRange = 0.0;
+  this->MeasuredDeviationRange = 0.0;
+  for (double c : chords)
+  {
+    this->MeasuredChordRange = std::max(this->MeasuredChordRange, c);
+  }
+  for (double d : deviations)
+  {
+    this->MeasuredDeviationRange = std::max(this->MeasuredDeviationRange, d);
+  }
+
+  // The exact segment model, on request (it costs as much as the reference).
+  this->ExactError = -1.0;
+  if (this->MeasureExactModel)
+  {
+    March::ExactPieces exact;
+    exact.Sampler = sampler;
+    exact.Tolerance = tolerance;
+    exact.DataRange = width;
+    std::vector<double> perRay;
+    this->ExactError = I.Measure(exact, perRay);
+  }
+  I.Table = table;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationTableSizer::Measure(int tableSize,
+  int chordSize,
+  int deviationSize,
+  double chordRange,
+  double deviationRange)
+{
+  vtkInternals& I = *this->Internals;
+  if (!I.Table || tableSize < 2 || chordSize < 1 || deviationSize < 1)
+  {
+    return -1.0;
+  }
+  // A scratch table of the prepared one's settings makes the candidate's iteration table and
+  // kernel; the prepared table is not touched.
+  vtkSecondOrderPreIntegrationTable* scratch = I.Scratch;
+  scratch->GetSampler()->SetFromSampler(I.Table->GetSampler());
+  scratch->SetScalarRange(I.Table->GetScalarRange());
+  scratch->SetSegmentLength(I.Table->GetSegmentLength());
+  scratch->SetIterations(I.Table->GetIterations());
+  scratch->SetPrefilter(I.Table->GetPrefilter());
+  scratch->SetTableSize(tableSize);
+  scratch->SetChordSize(chordSize);
+  scratch->SetDeviationSize(deviationSize);
+  scratch->SetChordRange(chordRange);
+  scratch->SetDeviationRange(deviationRange);
+  if (!scratch->GetSampler()->Prepare())
+  {
+    return -1.0;
+  }
+  scratch->BuildIterationTable();
+  const vtkIdType entries = scratch->GetNumberOfEntries();
+  std::vector<float> values;
+  std::unique_ptr<std::atomic<unsigned char>[]> states;
+  try
+  {
+    values.resize(4 * static_cast<size_t>(entries));
+    states.reset(new std::atomic<unsigned char>[entries]);
+  }
+  catch (const std::bad_alloc&)
+  {
+    return -1.0;
+  }
+  for (vtkIdType e = 0; e < entries; ++e)
+  {
+    states[e].store(0, std::memory_order_relaxed);
+  }
+  LazyPieces lazy;
+  const double* range = scratch->GetScalarRange();
+  lazy.View.Entries = values.data();
+  lazy.View.Dimensions = 3;
+  lazy.View.Chords = true;
+  lazy.View.Size[0] = tableSize;
+  lazy.View.Low[0] = range[0];
+  lazy.View.ToIndex[0] = (tableSize - 1) / (range[1] - range[0]);
+  const double extents[2] = { scratch->GetEffectiveChordRange(),
+    scratch->GetEffectiveDeviationRange() };
+  const int sizes[2] = { chordSize, deviationSize };
+  for (int a = 1; a < 3; ++a)
+  {
+    lazy.View.Size[a] = sizes[a - 1];
+    lazy.View.Low[a] = -extents[a - 1];
+    lazy.View.ToIndex[a] =
+      sizes[a - 1] > 1 && extents[a - 1] > 0.0 ? (sizes[a - 1] - 1) / (2.0 * extents[a - 1]) : 0.0;
+  }
+  lazy.Kernel = scratch->GetKernel();
+  lazy.Samples = scratch->GetIterationTable()->GetPointer(0);
+  lazy.Runs = scratch->GetIterationEmptyRuns()->GetPointer(0);
+  lazy.Entries = values.data();
+  lazy.States = states.get();
+  return I.Measure(lazy, I.LastPerRay);
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
+  vtkDataArray* scalars,
+  vtkSecondOrderPreIntegrationTable* table,
+  int order,
+  double sampleDistance)
+{
+  const double start = vtkTimerLog::GetUniversalTime();
+  if (!this->Prepare(volume, scalars, table, order, sampleDistance))
+  {
+    return false;
+  }
+  vtkInternals& I = *this->Internals;
+  const double* range = table->GetScalarRange();
+  const double width = range[1] - range[0];
+  // A margin for the image's many more rays; never beyond the scalar range, never zero.
+  const double chordRange =
+    std::min(std::max(1.25 * this->MeasuredChordRange, 1e-3 * width), width);
+  const double deviationRange =
+    std::min(std::max(1.25 * this->MeasuredDeviationRange, 1e-3 * width), width);
+
+  // Candidates: 2^k + 1 centre entries, chord and deviation spacings 1, 2, 4 or 8 times the
+  // centre spacing (odd sizes: entry 0 of the axis in the middle).
+  auto axis = [&](double extent, double spacing)
+  {
+    const double half = std::ceil(extent / spacing - 1e-9);
+    int size = static_cast<int>(std::min(2.0 * half + 1.0, 65537.0));
+    if (size > this->MaximumAxisSize)
+    {
+      size = this->MaximumAxisSize - (this->MaximumAxisSize % 2 == 0 ? 1 : 0);
+    }
+    return std::max(size, 3);
+  };
+  auto makeCandidate = [&](int centreLevel, int chordFactor, int deviationFactor)
+  {
+    Candidate c;
+    c.Sizes[0] = (1 << centreLevel) + 1;
+    const double spacing = width / (c.Sizes[0] - 1);
+    c.Sizes[1] = axis(chordRange, chordFactor * spacing);
+    c.Sizes[2] = order == 2 ? axis(deviationRange, deviationFactor * spacing) : 1;
+    c.Memory = static_cast<double>(c.Sizes[0]) * c.Sizes[1] * c.Sizes[2] * this->BytesPerEntry;
+    c.Error = -1.0;
+    return c;
+  };
+  auto fits = [&](const Candidate& c)
+  { return c.Sizes[0] <= this->MaximumAxisSize && c.Memory <= this->MaximumMemory; };
+  auto evaluate = [&](Candidate c)
+  {
+    for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
+    {
+      if (std::equal(c.Sizes, c.Sizes + 3, I.Candidates[i].Sizes))
+      {
+        return i;
+      }
+    }
+    c.Error = this->Measure(c.Sizes[0], c.Sizes[1], c.Sizes[2], chordRange, deviationRange);
+    c.PerRay = I.LastPerRay;
+    I.Candidates.push_back(c);
+    return static_cast<int>(I.Candidates.size()) - 1;
+  };
+  // Mean squared error of candidate i over the rays begin, begin + stride, ...
+  auto subsetError = [&](int i, int begin, int stride)
+  {
+    const std::vector<double>& e = I.Candidates[i].PerRay;
+    double sum = 0.0;
+    int count = 0;
+    for (size_t r = begin; r < e.size(); r += stride, ++count)
+    {
+      sum += e[r];
+    }
+    return count > 0 ? sum / count : 0.0;
+  };
+  auto bestOn = [&](int begin, int stride)
+  {
+    int least = -1;
+    double leastError = 0.0;
+    for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
+    {
+      if (I.Candidates[i].Error < 0.0)
+      {
+        continue;
+      }
+      const double error = subsetError(i, begin, stride);
+      if (least < 0 || error < leastError)
+      {
+        least = i;
+        leastError = error;
+      }
+    }
+    return least;
+  };
+  auto best = [&]() { return bestOn(0, 1); };
+  // Within Tolerance of the best on the rays begin, begin + stride, ..., with confidence: the
+  // rays are the same for every candidate, so the difference of two candidates' mean squared
+  // errors has the standard error of the per-ray differences; the mean squared error plus two
+  // of those must be within (1 + Tolerance)^2 of the best's.
+  auto goodOn = [&](int i, int begin, int stride)
+  {
+    const int b = bestOn(begin, stride);
+    if (i == b)
+    {
+      return true;
+    }
+    const std::vector<double>& ci = I.Candidates[i].PerRay;
+    const std::vector<double>& cb = I.Candidates[b].PerRay;
+    double mean = 0.0, square = 0.0;
+    int n = 0;
+    for (size_t r = begin; r < ci.size(); r += stride, ++n)
+    {
+      const double d = ci[r] - cb[r];
+      mean += d;
+      square += d * d;
+    }
+    n = std::max(n, 1);
+    mean /= n;
+    const double deviation = std::sqrt(std::max(square / n - mean * mean, 0.0) / n);
+    const double bestSquare = subsetError(b, begin, stride);
+    const double allowed = (1.0 + this->Tolerance) * (1.0 + this->Tolerance);
+    return bestSquare + mean + 2.0 * deviation <= allowed * bestSquare;
+  };
+  // Good: on all the rays, and on each half of them, so that a table good only by the luck of
+  // a few rays, whose errors dominate the mean, is less likely chosen (the per-ray errors are
+  // heavy-tailed: rays grazing a sharp feature carry most of the error).
+  auto good = [&](int i)
+  {
+    return i >= 0 && I.Candidates[i].Error >= 0.0 && goodOn(i, 0, 1) && goodOn(i, 0, 2) &&
+      goodOn(i, 1, 2);
+  };
+
+  // 1. The centre axis, all spacings equal, from coarse to fine.
+  const int firstLevel = 5;
+  int lastLevel = firstLevel - 1;
+  for (int level = firstLevel; level <= 16; ++level)
+  {
+    const Candidate c = makeCandidate(level, 1, 1);
+    if (!fits(c))
+    {
+      break;
+    }
+    evaluate(c);
+    lastLevel = level;
+  }
+  // 2. Coarser chord and deviation axes: they can measure better than equal spacings (their
+  // interpolation smooths over the segment model's own error), and they cost less memory.
+  // Around the best centre sizes, including the finer ones that fit only coarsened: every
+  // chord spacing, then (second order) every deviation spacing with the best chord spacing.
+  const int bestLevel = [&]()
+  {
+    const int b = best();
+    int level = firstLevel;
+    while (b >= 0 && (1 << level) + 1 < I.Candidates[b].Sizes[0])
+    {
+      ++level;
+    }
+    return level;
+  }();
+  const int factors[4] = { 1, 2, 4, 8 };
+  for (int level = std::max(firstLevel, bestLevel - 1); level <= bestLevel + 2; ++level)
+  {
+    int bestChord = -1;
+    for (int fb : factors)
+    {
+      const Candidate c = makeCandidate(level, fb, 1);
+      if (fits(c))
+      {
+        const int i = evaluate(c);
+        bestChord =
+          bestChord < 0 || I.Candidates[i].Error < I.Candidates[bestChord].Error ? i : bestChord;
+      }
+    }
+    if (order == 2)
+    {
+      for (int fb : factors)
+      {
+        for (int fd : factors)
+        {
+          const Candidate c = makeCandidate(level, fb, fd);
+          // Every deviation spacing with the best chord spacing, and both coarse.
+          const bool withBestChord =
+            bestChord >= 0 && c.Sizes[1] == I.Candidates[bestChord].Sizes[1];
+          if ((withBestChord || fb == fd) && fits(c))
+          {
+            evaluate(c);
+          }
+        }
+      }
+    }
+  }
+
+  // The least memory among the good candidates.
+  for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
+  {
+    const Candidate& c = I.Candidates[i];
+    if (good(i) &&
+      (this->ChosenCandidate < 0 || c.Memory < I.Candidates[this->ChosenCandidate].Memory))
+    {
+      this->ChosenCandidate = i;
+    }
+  }
+  if (this->ChosenCandidate < 0)
+  {
+    // No candidate is good on both halves (their best differ): the best on all the rays.
+    this->ChosenCandidate = best();
+  }
+  if (this->ChosenCandidate < 0)
+  {
+    vtkErrorMacro("No candidate table fits in " << this->MaximumMemory << " bytes.");
+    return false;
+  }
+  const Candidate& chosen = I.Candidates[this->ChosenCandidate];
+  table->SetTableSize(chosen.Sizes[0]);
+  table->SetChordSize(chosen.Sizes[1]);
+  table->SetDeviationSize(chosen.Sizes[2]);
+  table->SetChordRange(chordRange);
+  table->SetDeviationRange(deviationRange);
+  this->LastChooseTime = vtkTimerLog::GetUniversalTime() - start;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "MaximumMemory: " << this->MaximumMemory << "\n";
+  os << indent << "BytesPerEntry: " << this->BytesPerEntry << "\n";
+  os << indent << "MaximumAxisSize: " << this->MaximumAxisSize << "\n";
+  os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
+  os << indent << "ExactError: " << this->ExactError << "\n";
+}

@@ -1,0 +1,216 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkPreIntegrationTableSizer
+ * @brief   chooses the sizes of a pre-integration table by measuring candidate tables
+ *
+ * A table's entries sample a function of the segment's scalars; between them the renderer
+ * interpolates, and how many entries an image needs depends on the transfer function (how
+ * narrow its features are), on the data (which scalars, chords and deviations the rays meet at
+ * this step, and where they linger) and on the step. No rule fitted to a few transfer
+ * functions holds for all of them, so the sizer measures instead:
+ *   1. it casts NumberOfRays random rays through the volume (uniform directions, uniform over
+ *      each direction's projected disc, from a fixed Seed: the choice does not depend on the
+ *      camera, and repeats) and integrates them with vtkVolumeReferenceIntegrator;
+ *   2. it marches them as the GLSL does (vtkPreIntegrationRayMarch) and records the largest
+ *      chord |back - front| and deviation |middle - centre| of their segments or slabs, which
+ *      (times 1.25) become the table's ChordRange and DeviationRange;
+ *   3. it composites the same rays with candidate tables (vtkSecondOrderPreIntegrationTable:
+ *      TableSize entries on the centre axis, 2^k + 1; chord and deviation spacings 1, 2, 4 or
+ *      8 times the centre spacing), computing only the entries the rays read
+ *      (vtkSecondOrderPreIntegrationTableKernel, the builders' own integration);
+ *   4. it keeps the candidate with the least memory whose error against the reference (RMSE
+ *      of premultiplied RGBA over the rays) is, with confidence, within Tolerance of the least
+ *      error measured, on all the rays and on each half of them: the per-ray differences to
+ *      the best candidate must stay below the allowance by two of their standard errors. The
+ *      per-ray errors are heavy-tailed (rays grazing a sharp feature carry most of the
+ *      error), and a table good only by the luck of a few rays should not be chosen.
+ * Candidates above MaximumMemory (at BytesPerEntry) or MaximumAxisSize are not considered. The
+ * search first refines the centre axis with all spacings equal, then, around the best centre
+ * size (one coarser, two finer), tries every chord spacing and (second order) every deviation
+ * spacing with the best chord spacing. The rays are quasi-random (a shifted Halton sequence),
+ * whose error estimates vary less between seeds than independent random rays'. A coarse table can
+ * measure better than finer ones (its interpolation can offset the segment model's own error); the
+ * sizer then keeps it, as it measures.
+ */
+#ifndef vtkPreIntegrationTableSizer_h
+#define vtkPreIntegrationTableSizer_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkObject.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkDataArray;
+class vtkImageData;
+class vtkSecondOrderPreIntegrationTable;
+
+class HOVRRENDERINGCORE_EXPORT vtkPreIntegrationTableSizer : public vtkObject
+{
+public:
+  static vtkPreIntegrationTableSizer* New();
+  vtkTypeMacro(vtkPreIntegrationTableSizer, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Random rays the candidates are measured on. Initial value is 2048.
+   */
+  vtkSetClampMacro(NumberOfRays, int, 8, 1 << 20);
+  vtkGetMacro(NumberOfRays, int);
+  ///@}
+
+  ///@{
+  /**
+   * Seed of the random rays. Initial value is 1.
+   */
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /**
+   * A candidate whose error is, with confidence, at most (1 + Tolerance) times the least error
+   * measured counts as good. Initial value is 0.02.
+   */
+  vtkSetClampMacro(Tolerance, double, 0.0, 10.0);
+  vtkGetMacro(Tolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Largest table considered, in bytes at BytesPerEntry. Initial value is 64 MiB.
+   */
+  vtkSetClampMacro(MaximumMemory, double, 1024.0, 1e12);
+  vtkGetMacro(MaximumMemory, double);
+  ///@}
+
+  ///@{
+  /**
+   * Bytes of one entry where the table is stored (8: RGBA half floats). Initial value is 8.
+   */
+  vtkSetClampMacro(BytesPerEntry, int, 1, 64);
+  vtkGetMacro(BytesPerEntry, int);
+  ///@}
+
+  ///@{
+  /**
+   * Most entries along one axis (a texture size limit). Initial value is 4097.
+   */
+  vtkSetClampMacro(MaximumAxisSize, int, 3, 65536);
+  vtkGetMacro(MaximumAxisSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Also integrate the exact segment model (each segment's or slab's model path, no table)
+   * along the rays in Prepare(), for GetExactError(); it costs about as much as the reference.
+   * Initial value is false.
+   */
+  vtkSetMacro(MeasureExactModel, bool);
+  vtkGetMacro(MeasureExactModel, bool);
+  vtkBooleanMacro(MeasureExactModel, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Rays stop once their opacity exceeds this value, as the renderer's. Initial value is
+   * 1 - 1/255.
+   */
+  vtkSetClampMacro(OpacityThreshold, double, 0.0, 1.0);
+  vtkGetMacro(OpacityThreshold, double);
+  ///@}
+
+  /**
+   * Choose and set the sizes and ranges of table (TableSize, ChordSize, ChordRange,
+   * DeviationSize, DeviationRange) for rendering the point scalars of volume with samples
+   * sampleDistance (world units) apart, composited in order 1 (segments: the table gets
+   * DeviationSize 1) or 2 (slabs): Prepare(), then the search. The table must have its
+   * transfer functions, scalar range and segment length set (sampleDistance, or twice it for
+   * order 2); its Iterations and Prefilter are kept. Returns false and reports an error on bad
+   * input; the table is then unchanged.
+   */
+  bool Choose(vtkImageData* volume,
+    vtkDataArray* scalars,
+    vtkSecondOrderPreIntegrationTable* table,
+    int order,
+    double sampleDistance);
+
+  /**
+   * The measuring part of Choose(): casts the random rays, integrates the reference and the
+   * exact segment model along them, and measures the largest chord and deviation
+   * (GetMeasuredChordRange(), GetMeasuredDeviationRange()). The table is not changed; it must
+   * stay alive while Measure() is used.
+   */
+  bool Prepare(vtkImageData* volume,
+    vtkDataArray* scalars,
+    vtkSecondOrderPreIntegrationTable* table,
+    int order,
+    double sampleDistance);
+
+  /**
+   * The error (RMSE of premultiplied RGBA against the reference over the prepared rays) of a
+   * table of the prepared one's transfer functions, range, segment length, iterations and
+   * prefilter with these sizes and ranges (a range of 0 or less: the scalar range's width).
+   * Only the entries the rays read are integrated. Returns -1 when no table was prepared or
+   * memory runs out.
+   */
+  double Measure(int tableSize,
+    int chordSize,
+    int deviationSize,
+    double chordRange,
+    double deviationRange);
+
+  ///@{
+  /**
+   * The largest chord |back - front| and deviation |middle - centre| that the prepared rays
+   * met, in data units.
+   */
+  vtkGetMacro(MeasuredChordRange, double);
+  vtkGetMacro(MeasuredDeviationRange, double);
+  ///@}
+
+  ///@{
+  /**
+   * What the last Choose() measured: the candidates in the order they were evaluated (their
+   * TableSize, ChordSize and DeviationSize, their error and memory in bytes), the one chosen
+   * (-1 if none), the error of the exact segment model (no table; -1 unless
+   * MeasureExactModel), the rays that met the volume, and the wall time in seconds.
+   */
+  int GetNumberOfCandidates() const;
+  void GetCandidateSizes(int candidate, int sizes[3]) const;
+  double GetCandidateError(int candidate) const;
+  double GetCandidateMemory(int candidate) const;
+  vtkGetMacro(ChosenCandidate, int);
+  vtkGetMacro(ExactError, double);
+  vtkGetMacro(NumberOfRaysInVolume, int);
+  vtkGetMacro(LastChooseTime, double);
+  ///@}
+
+protected:
+  vtkPreIntegrationTableSizer();
+  ~vtkPreIntegrationTableSizer() override;
+
+  int NumberOfRays = 2048;
+  int Seed = 1;
+  double Tolerance = 0.02;
+  double MaximumMemory = 64.0 * 1024.0 * 1024.0;
+  int BytesPerEntry = 8;
+  int MaximumAxisSize = 4097;
+  double OpacityThreshold = 1.0 - 1.0 / 255.0;
+  bool MeasureExactModel = false;
+  int ChosenCandidate = -1;
+  double ExactError = 0.0;
+  int NumberOfRaysInVolume = 0;
+  double LastChooseTime = 0.0;
+  double MeasuredChordRange = 0.0;
+  double MeasuredDeviationRange = 0.0;
+
+private:
+  vtkPreIntegrationTableSizer(const vtkPreIntegrationTableSizer&) = delete;
+  void operator=(const vtkPreIntegrationTableSizer&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

@@ -1,0 +1,156 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkSecondOrderPreIntegrationTableKernel
+ * @brief   the integration of one entry of vtkSecondOrderPreIntegrationTable, in float
+ *
+ * What the CPU builder runs for every entry, what the GPU builder's fragment shader
+ * (hovrPreIntegration2Build.glsl) repeats operation for operation, and what a size estimate
+ * evaluates for single entries without building a table. Units are iteration-table samples:
+ * the path of entry (centre i, chord j, deviation k) is
+ *   x(t) = x0 + t (b + a t), x0 = p i - chord / 2, b = chord + 4 dev, a = -4 dev,
+ * chord = (2 j - (ChordSize - 1)) ChordHalfStep, dev = (2 k - (DeviationSize - 1))
+ * DeviationHalfStep (Eq. 2 in the table's axes; the chord grid is symmetric, so entry
+ * ChordSize - 1 - j is entry j's path reversed). The path takes one midpoint step per sample
+ * it sweeps (max(|b|, |2a + b|), at least 1, at most MaximumSteps), clamped to the samples;
+ * each step reads (c tau, tau) with linear interpolation and composites (c alpha, alpha),
+ * alpha = 1 - exp(-tau h) (by its series below 0.01, where 1 - exp loses digits in float),
+ * h = Length / steps. A path inside one zero-opacity run of the iteration table is zero.
+ */
+#ifndef vtkSecondOrderPreIntegrationTableKernel_h
+#define vtkSecondOrderPreIntegrationTableKernel_h
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+struct vtkSecondOrderPreIntegrationTableKernel
+{
+  int SamplesPerSpacing = 2; // iteration-table samples per centre spacing
+  int Samples = 2;           // iteration-table samples
+  int ChordSize = 1;
+  int DeviationSize = 1;
+  float ChordHalfStep = 0.0f;     // half the chord spacing, in samples
+  float DeviationHalfStep = 0.0f; // half the deviation spacing, in samples
+  int MaximumSteps = 4096;
+  float Length = 1.0f; // slab length, world units
+
+  void Path(int i, int j, int k, float& x0, float& b, float& a) const
+  {
+    const float chord = static_cast<float>(2 * j - (this->ChordSize - 1)) * this->ChordHalfStep;
+    const float deviation =
+      static_cast<float>(2 * k - (this->DeviationSize - 1)) * this->DeviationHalfStep;
+    x0 = static_cast<float>(this->SamplesPerSpacing * i) - 0.5f * chord;
+    b = chord + 4.0f * deviation;
+    a = -4.0f * deviation;
+  }
+
+  int Steps(float b, float a) const
+  {
+    const float sweep = std::max(std::abs(b), std::abs(2.0f * a + b));
+    return static_cast<int>(
+      std::min(std::max(std::ceil(sweep), 1.0f), static_cast<float>(this->MaximumSteps)));
+  }
+
+  // Whether the path stays inside one zero-opacity run: its range over t in [0, 1] is spanned
+  // by its ends and, when inside, its extremum.
+  bool IsEmpty(float x0, float b, float a, const float* runs) const
+  {
+    const float top = static_cast<float>(this->Samples - 1);
+    const float x1 = x0 + b + a;
+    float lo = std::min(x0, x1), hi = std::max(x0, x1);
+    if (a != 0.0f)
+    {
+      const float vertex = -b / (2.0f * a);
+      if (vertex > 0.0f && vertex < 1.0f)
+      {
+        const float extremum = x0 + vertex * (b + a * vertex);
+        lo = std::min(lo, extremum);
+        hi = std::max(hi, extremum);
+      }
+    }
+    lo = std::min(std::max(lo, 0.0f), top);
+    hi = std::min(std::max(hi, 0.0f), top);
+    const int qlo = std::min(static_cast<int>(lo), this->Samples - 2);
+    const int qhi = std::min(static_cast<int>(hi), this->Samples - 2);
+    return runs[qlo] >= 0.0f && runs[qlo] == runs[qhi];
+  }
+
+  // Entry (i, j, k) into forward and, when backward is given, its reversed path into
+  // backward. steps is scratch memory.
+  void Integrate(int i,
+    int j,
+    int k,
+    const float* samples,
+    const float* runs,
+    std::vector<float>& steps,
+    float* forward,
+    float* backward) const
+  {
+    float x0, b, a;
+    this->Path(i, j, k, x0, b, a);
+    if (this->IsEmpty(x0, b, a, runs))
+    {
+      std::fill(forward, forward + 4, 0.0f);
+      if (backward)
+      {
+        std::fill(backward, backward + 4, 0.0f);
+      }
+      return;
+    }
+    const int n = this->Steps(b, a);
+    const float h = this->Length / static_cast<float>(n);
+    const float width = 1.0f / static_cast<float>(n);
+    const float top = static_cast<float>(this->Samples - 1);
+    steps.resize(4 * static_cast<size_t>(n));
+    for (int m = 0; m < n; ++m)
+    {
+      const float t = (static_cast<float>(m) + 0.5f) * width;
+      const float x = std::min(std::max(x0 + t * (b + a * t), 0.0f), top);
+      const int q = std::min(static_cast<int>(x), this->Samples - 2);
+      const float w = x - static_cast<float>(q);
+      const float* v0 = samples + 4 * q;
+      float v[4];
+      for (int c = 0; c < 4; ++c)
+      {
+        v[c] = v0[c] + w * (v0[c + 4] - v0[c]);
+      }
+      const float depth = v[3] * h;
+      const float alpha = depth < 0.01f ? depth * (1.0f - depth * (0.5f - depth * (1.0f / 6.0f)))
+                                        : 1.0f - std::exp(-depth);
+      // Colour weight alpha / tau: the step's length where tau vanishes.
+      const float weight = v[3] > 0.0f ? alpha / v[3] : h;
+      float* step = steps.data() + 4 * m;
+      for (int c = 0; c < 3; ++c)
+      {
+        step[c] = v[c] * weight;
+      }
+      step[3] = alpha;
+    }
+    // Front to back: RGBA += T (c a, a), T *= 1 - a. Alpha is accumulated like the colour,
+    // not taken as 1 - T, which in float would lose the opacity of very thin steps.
+    Composite(steps.data(), n, false, forward);
+    if (backward)
+    {
+      Composite(steps.data(), n, true, backward);
+    }
+  }
+
+  static void Composite(const float* steps, int n, bool reversed, float* rgba)
+  {
+    float sum[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+    float transmittance = 1.0f;
+    for (int m = 0; m < n; ++m)
+    {
+      const float* step = steps + 4 * (reversed ? n - 1 - m : m);
+      for (int c = 0; c < 4; ++c)
+      {
+        sum[c] += transmittance * step[c];
+      }
+      transmittance *= 1.0f - step[3];
+    }
+    std::copy(sum, sum + 3, rgba);
+    rgba[3] = std::min(sum[3], 1.0f); // 1 at most, up to rounding
+  }
+};
+
+#endif
