@@ -63,7 +63,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
               "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
               "rmse_ratio_to_baseline", "ms_ratio_paired", "ms_ratio_paired_min",
-              "ms_ratio_paired_max", "table_size", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
+              "ms_ratio_paired_max", "table_size", "table_sizing_ms", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
               "corner_gpu_bytes",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",

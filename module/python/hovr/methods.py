@@ -180,7 +180,11 @@ class PreIntegrationMethod(Method):
 
     def statistics(self, mapper):
         table = mapper.GetActiveTable()
-        return {"table_size": table.GetTableSize(),
+        sizes = [table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize()]
+        sizer = mapper.GetTableSizer()
+        return {"table_size": "x".join(str(v) for v in sizes[:3 if self.integration == 2 else 2]),
+                "table_sizing_ms": 1000.0 * sizer.GetLastChooseTime()
+                if mapper.GetTableSize() == 0 else 0.0,
                 "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
                 "table_on_gpu": bool(mapper.GetLastTableBuiltOnGPU()),
                 "table_builds": table.GetBuildCount(),

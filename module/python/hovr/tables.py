@@ -1,7 +1,9 @@
 """``hovr tables``: build times of the second-order table on the CPU and the GPU.
 
-For each table size and number of iterations, the 3D table of a transfer function is built
-with vtkSecondOrderPreIntegrationTable (CPU, vtkSMPTools) and with
+For each table size n and cap of integration steps, the 3D table of a transfer function (n
+entries on each axis: chord centres, chords and deviations over the whole range, as
+``vtkPreIntegrationVolumeMapper::SetTableSize(n)`` gives) is built with
+vtkSecondOrderPreIntegrationTable (CPU, vtkSMPTools) and with
 vtkOpenGLPreIntegrationTableBuilder (a render pass writing the 3D texture), and the median
 wall time of a few builds is reported; the CPU and GPU tables are compared. The paper
 (El Hajjar et al., Figure 6) reports 165 s (CPU) and 2.74 s (GPU) for 256^3 with 64
@@ -43,6 +45,8 @@ def measure(tf_path, sizes, iterations, repeat=3, slab_length=4.0, unit=1.0, sca
             table.SetVolumeProperty(prop)
             table.SetScalarRange(*scalar_range)
             table.SetTableSize(n)
+            table.SetChordSize(n)
+            table.SetDeviationSize(n)
             table.SetIterations(steps)
             table.SetSegmentLength(slab_length)
             cpu_times = []
