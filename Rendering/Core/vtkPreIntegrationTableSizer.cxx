@@ -2,6 +2,7 @@
 #include "vtkPreIntegrationTableSizer.h"
 
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <new>
 #include <thread>
 #include <vector>
@@ -71,6 +73,11 @@ struct RecordPieces
     std::fill(rgba, rgba + 4, 0.0);
   }
 };
+
+// Zeroed memory is a valid array of these atomics holding 0 (a lock-free byte).
+static_assert(
+  sizeof(std::atomic<unsigned char>) == 1 && std::atomic<unsigned char>::is_always_lock_free,
+  "the entry states must be lock-free bytes");
 
 // A candidate table whose entries are integrated when a ray first reads them, by the
 // builders' own kernel (so they equal the built table's), safely from several threads.
@@ -481,24 +488,21 @@ double vtkPreIntegrationTableSizer::Measure(int tableSize,
   }
   scratch->BuildIterationTable();
   const vtkIdType entries = scratch->GetNumberOfEntries();
-  std::vector<float> values;
-  std::unique_ptr<std::atomic<unsigned char>[]> states;
-  try
-  {
-    values.resize(4 * static_cast<size_t>(entries));
-    states.reset(new std::atomic<unsigned char>[entries]);
-  }
-  catch (const std::bad_alloc&)
+  // The rays read a small part of a large candidate: the values are left uninitialized and
+  // the states come from calloc (zero pages mapped on first touch), so neither costs time in
+  // proportion to the candidate's size.
+  std::unique_ptr<float[]> values(new (std::nothrow) float[4 * static_cast<size_t>(entries)]);
+  std::unique_ptr<std::atomic<unsigned char>, decltype(&std::free)> states(
+    static_cast<std::atomic<unsigned char>*>(
+      std::calloc(entries, sizeof(std::atomic<unsigned char>))),
+    &std::free);
+  if (!values || !states)
   {
     return -1.0;
   }
-  for (vtkIdType e = 0; e < entries; ++e)
-  {
-    states[e].store(0, std::memory_order_relaxed);
-  }
   LazyPieces lazy;
   const double* range = scratch->GetScalarRange();
-  lazy.View.Entries = values.data();
+  lazy.View.Entries = values.get();
   lazy.View.Dimensions = 3;
   lazy.View.Chords = true;
   lazy.View.Size[0] = tableSize;
@@ -517,9 +521,18 @@ double vtkPreIntegrationTableSizer::Measure(int tableSize,
   lazy.Kernel = scratch->GetKernel();
   lazy.Samples = scratch->GetIterationTable()->GetPointer(0);
   lazy.Runs = scratch->GetIterationEmptyRuns()->GetPointer(0);
-  lazy.Entries = values.data();
+  lazy.Entries = values.get();
   lazy.States = states.get();
   return I.Measure(lazy, I.LastPerRay);
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::GetLastMeasurePerRay(vtkDoubleArray* errors)
+{
+  const std::vector<double>& perRay = this->Internals->LastPerRay;
+  errors->SetNumberOfComponents(1);
+  errors->SetNumberOfTuples(static_cast<vtkIdType>(perRay.size()));
+  std::copy(perRay.begin(), perRay.end(), errors->GetPointer(0));
 }
 
 //------------------------------------------------------------------------------
@@ -651,62 +664,26 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       goodOn(i, 1, 2);
   };
 
-  // 1. The centre axis, all spacings equal, from coarse to fine.
-  const int firstLevel = 5;
-  int lastLevel = firstLevel - 1;
-  for (int level = firstLevel; level <= 16; ++level)
-  {
-    const Candidate c = makeCandidate(level, 1, 1);
-    if (!fits(c))
-    {
-      break;
-    }
-    evaluate(c);
-    lastLevel = level;
-  }
-  // 2. Coarser chord and deviation axes: they can measure better than equal spacings (their
-  // interpolation smooths over the segment model's own error), and they cost less memory.
-  // Around the best centre sizes, including the finer ones that fit only coarsened: every
-  // chord spacing, then (second order) every deviation spacing with the best chord spacing.
-  const int bestLevel = [&]()
-  {
-    const int b = best();
-    int level = firstLevel;
-    while (b >= 0 && (1 << level) + 1 < I.Candidates[b].Sizes[0])
-    {
-      ++level;
-    }
-    return level;
-  }();
+  // Every candidate that fits: coarse tables can measure better than finer ones (their
+  // interpolation smooths over the segment model's own error) on one axis and not another,
+  // so no search that skips some of them finds the best reliably.
   const int factors[4] = { 1, 2, 4, 8 };
-  for (int level = std::max(firstLevel, bestLevel - 1); level <= bestLevel + 2; ++level)
+  for (int level = 5; level <= 16; ++level)
   {
-    int bestChord = -1;
+    if (!fits(makeCandidate(level, 8, order == 2 ? 8 : 1)))
+    {
+      break; // every coarser spacing of this centre size is larger still
+    }
     for (int fb : factors)
     {
-      const Candidate c = makeCandidate(level, fb, 1);
-      if (fits(c))
+      for (int fd : factors)
       {
-        const int i = evaluate(c);
-        bestChord =
-          bestChord < 0 || I.Candidates[i].Error < I.Candidates[bestChord].Error ? i : bestChord;
-      }
-    }
-    if (order == 2)
-    {
-      for (int fb : factors)
-      {
-        for (int fd : factors)
+        const Candidate c = makeCandidate(level, fb, order == 2 ? fd : 1);
+        if ((order == 1 && fd != 1) || !fits(c))
         {
-          const Candidate c = makeCandidate(level, fb, fd);
-          // Every deviation spacing with the best chord spacing, and both coarse.
-          const bool withBestChord =
-            bestChord >= 0 && c.Sizes[1] == I.Candidates[bestChord].Sizes[1];
-          if ((withBestChord || fb == fd) && fits(c))
-          {
-            evaluate(c);
-          }
+          continue;
         }
+        evaluate(c);
       }
     }
   }

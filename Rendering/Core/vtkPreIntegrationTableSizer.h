@@ -24,13 +24,12 @@
  *      the best candidate must stay below the allowance by two of their standard errors. The
  *      per-ray errors are heavy-tailed (rays grazing a sharp feature carry most of the
  *      error), and a table good only by the luck of a few rays should not be chosen.
- * Candidates above MaximumMemory (at BytesPerEntry) or MaximumAxisSize are not considered. The
- * search first refines the centre axis with all spacings equal, then, around the best centre
- * size (one coarser, two finer), tries every chord spacing and (second order) every deviation
- * spacing with the best chord spacing. The rays are quasi-random (a shifted Halton sequence),
- * whose error estimates vary less between seeds than independent random rays'. A coarse table can
- * measure better than finer ones (its interpolation can offset the segment model's own error); the
- * sizer then keeps it, as it measures.
+ * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured: a
+ * coarse axis can measure better than a finer one on one axis and not another, so a search
+ * that skips candidates misses the best. The rays are quasi-random (a shifted Halton
+ * sequence), whose error estimates vary less between seeds than independent random rays'. A coarse
+ * table can measure better than finer ones (its interpolation can offset the segment model's own
+ * error); the sizer then keeps it, as it measures.
  */
 #ifndef vtkPreIntegrationTableSizer_h
 #define vtkPreIntegrationTableSizer_h
@@ -41,6 +40,7 @@
 #include <memory> // For std::unique_ptr
 
 class vtkDataArray;
+class vtkDoubleArray;
 class vtkImageData;
 class vtkSecondOrderPreIntegrationTable;
 
@@ -159,6 +159,13 @@ public:
     int deviationSize,
     double chordRange,
     double deviationRange);
+
+  /**
+   * The squared error of each prepared ray in the last Measure() (mean over the four
+   * channels), for statistics over the rays: paired comparisons of two tables on the same
+   * rays.
+   */
+  void GetLastMeasurePerRay(vtkDoubleArray* errors);
 
   ///@{
   /**
