@@ -384,9 +384,9 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   }
   this->NumberOfRaysInVolume = static_cast<int>(I.Rays.size());
 
-  // Ground truth along them. The reference integrator's own tolerance is 1/64: 1/16 costs a
-  // quarter, and its error (about 16 times the default's) is the same for every candidate.
-  const double tolerance = 1.0 / 16.0;
+  // Ground truth along them, at the reference integrator's tolerance: a coarser one puts a
+  // floor under the errors measured, below which no candidate can be told from another.
+  const double tolerance = this->ReferenceTolerance;
   {
     std::vector<double> origins, directions;
     for (const Ray& ray : I.Rays)
@@ -571,7 +571,8 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   auto makeCandidate = [&](int centreLevel, int chordFactor, int deviationFactor)
   {
     Candidate c;
-    c.Sizes[0] = (1 << centreLevel) + 1;
+    // 2^k + 1 entries, or as many as an axis can hold (a texture limit is often a power of 2).
+    c.Sizes[0] = std::min((1 << centreLevel) + 1, this->MaximumAxisSize);
     const double spacing = width / (c.Sizes[0] - 1);
     c.Sizes[1] = axis(chordRange, chordFactor * spacing);
     c.Sizes[2] = order == 2 ? axis(deviationRange, deviationFactor * spacing) : 1;
@@ -579,8 +580,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     c.Error = -1.0;
     return c;
   };
-  auto fits = [&](const Candidate& c)
-  { return c.Sizes[0] <= this->MaximumAxisSize && c.Memory <= this->MaximumMemory; };
+  auto fits = [&](const Candidate& c) { return c.Memory <= this->MaximumMemory; };
   auto evaluate = [&](Candidate c)
   {
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
@@ -674,6 +674,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     {
       break; // every coarser spacing of this centre size is larger still
     }
+    const bool last = (1 << level) + 1 >= this->MaximumAxisSize;
     for (int fb : factors)
     {
       for (int fd : factors)
@@ -685,6 +686,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
         evaluate(c);
       }
+    }
+    if (last)
+    {
+      break; // the centre axis is as large as it can be
     }
   }
 
@@ -729,6 +734,7 @@ void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BytesPerEntry: " << this->BytesPerEntry << "\n";
   os << indent << "MaximumAxisSize: " << this->MaximumAxisSize << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "ReferenceTolerance: " << this->ReferenceTolerance << "\n";
   os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
   os << indent << "ExactError: " << this->ExactError << "\n";
 }

@@ -102,6 +102,15 @@ public:
 
   ///@{
   /**
+   * The reference integrator's ScalarTolerance for the ground truth along the rays: its
+   * error is a floor under every error measured. Initial value is the integrator's, 1/64.
+   */
+  vtkSetClampMacro(ReferenceTolerance, double, 1e-4, 1.0);
+  vtkGetMacro(ReferenceTolerance, double);
+  ///@}
+
+  ///@{
+  /**
    * Also integrate the exact segment model (each segment's or slab's model path, no table)
    * along the rays in Prepare(), for GetExactError(); it costs about as much as the reference.
    * Initial value is false.
@@ -205,6 +214,7 @@ protected:
   int MaximumAxisSize = 4097;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
   bool MeasureExactModel = false;
+  double ReferenceTolerance = 1.0 / 64.0;
   int ChosenCandidate = -1;
   double ExactError = 0.0;
   int NumberOfRaysInVolume = 0;
