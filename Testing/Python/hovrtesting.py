@@ -121,3 +121,55 @@ class Messages:
 
     on_error.CallDataType = "string0"
     on_warning.CallDataType = "string0"
+
+
+def blobs(n=48, seed=3, count=6):
+    """A smooth volume of Gaussian blobs, values 0 to 255 rounded to integers, indexed [z, y, x]:
+    regions where the scalar lingers near each blob's maximum, where a table that blurs the
+    transfer function gives rays opacity they should not have."""
+    import numpy
+    rng = numpy.random.default_rng(seed)
+    g = numpy.linspace(0.0, 1.0, n)
+    z, y, x = numpy.meshgrid(g, g, g, indexing="ij")
+    v = numpy.zeros_like(x)
+    for _ in range(count):
+        c = rng.uniform(0.2, 0.8, 3)
+        r = rng.uniform(0.08, 0.25)
+        v += rng.uniform(0.5, 1.0) * numpy.exp(
+            -((x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2) / (2 * r * r))
+    return numpy.round(255.0 * v / v.max())
+
+
+def spike_property(centres=(44, 104), width=8, height=0.8, ramp=180, top=255, unit=1.0):
+    """Opacity spikes `width` wide at `centres` plus a ramp from `ramp` to `top`, over [0, top]."""
+    from hovr import io as hio
+    points = [0, 0, 0.5, 0]
+    for c in centres:
+        points += [c - width / 2, 0, 0.5, 0, c, height, 0.5, 0, c + width / 2, 0, 0.5, 0]
+    points += [ramp, 0, 0.5, 0, top, 0.6, 0.5, 0]
+    color, opacity, _ = hio.transfer_function_from_preset({
+        "RGBPoints": [0, 0.2, 0.4, 1, 100, 1, 0.6, 0.2, 255, 1, 1, 1], "Points": points})
+    return hio.make_volume_property(color, opacity, unit)
+
+
+# The shared volumes and their spike presets: file, dimensions, raw type, preset.
+SHARED_VOLUMES = {
+    "neghip": ("neghip_64x64x64_uint8.raw", (64, 64, 64), "uint8", "neghip-spikes"),
+    "fuel": ("fuel_64x64x64_uint8.raw", (64, 64, 64), "uint8", "fuel-spikes"),
+    "bucky": ("bucky_32x32x32_uint8.raw", (32, 32, 32), "uint8", "bucky-spikes"),
+}
+
+
+def shared_scene(name, size):
+    """The scene of a shared volume with its spike preset (unit distance 1, default camera), or
+    None when ../shared/data is absent."""
+    from hovr import io as hio
+    from hovr import methods as hm
+    file_name, dims, raw_type, preset = SHARED_VOLUMES[name]
+    path = shared_volume(file_name)
+    if path is None:
+        return None
+    image = hio.read_volume(path, dims, raw_type)
+    color, opacity, _ = hio.read_transfer_function(tf_path(preset))
+    prop = hio.make_volume_property(color, opacity, 1.0)
+    return hm.Scene(image, prop, hio.default_camera(image.GetBounds()), size)
