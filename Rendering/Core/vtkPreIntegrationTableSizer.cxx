@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <thread>
@@ -35,6 +36,7 @@ using March = vtkPreIntegrationRayMarch;
 struct Candidate
 {
   int Sizes[3];
+  bool Prefilter;
   double Error;
   double Memory;
   std::vector<double> PerRay; // squared errors of the rays
@@ -171,6 +173,7 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   vtkSecondOrderPreIntegrationTable* Table = nullptr; // the prepared one
   vtkNew<vtkSecondOrderPreIntegrationTable> Scratch;  // candidates' iteration tables
   std::vector<double> LastPerRay;                     // of the last Measure()
+  std::vector<double> ReferenceKey; // what the rays and their reference were computed from
 
   // The rays composited with pieces: each ray's squared error against the reference (mean
   // over the four channels) into perRay, and the RMSE over all rays.
@@ -254,6 +257,13 @@ double vtkPreIntegrationTableSizer::GetCandidateMemory(int candidate) const
 }
 
 //------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::GetCandidatePrefilter(int candidate) const
+{
+  const auto& all = this->Internals->Candidates;
+  return candidate >= 0 && candidate < static_cast<int>(all.size()) && all[candidate].Prefilter;
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   vtkDataArray* scalars,
   vtkSecondOrderPreIntegrationTable* table,
@@ -292,6 +302,22 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     return false;
   }
 
+  // The rays and their ground truth depend on neither the order nor the step: they are kept
+  // while the volume, the transfer functions and the ray settings stay the same.
+  const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(volume)),
+    static_cast<double>(volume->GetMTime()),
+    static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
+    static_cast<double>(scalars->GetMTime()),
+    static_cast<double>(reinterpret_cast<uintptr_t>(sampler)),
+    static_cast<double>(sampler->GetMTime()),
+    range[0],
+    range[1],
+    static_cast<double>(this->Seed),
+    static_cast<double>(this->NumberOfRays),
+    this->ReferenceTolerance };
+  const bool reuse = key == I.ReferenceKey;
+  I.ReferenceKey.clear();
+
   // The volume in double, and the world -> 0-based grid index map.
   try
   {
@@ -302,7 +328,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     vtkErrorMacro("Not enough memory for a double copy of the volume.");
     return false;
   }
-  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
+  for (vtkIdType i = 0; !reuse && i < scalars->GetNumberOfTuples(); ++i)
   {
     I.Values[i] = scalars->GetComponent(i, 0);
   }
@@ -347,8 +373,11 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     }
     return value;
   };
-  I.Rays.clear();
-  for (int attempt = 0;
+  if (!reuse)
+  {
+    I.Rays.clear();
+  }
+  for (int attempt = 0; !reuse &&
        attempt < 8 * this->NumberOfRays && static_cast<int>(I.Rays.size()) < this->NumberOfRays;
        ++attempt)
   {
@@ -387,6 +416,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   // Ground truth along them, at the reference integrator's tolerance: a coarser one puts a
   // floor under the errors measured, below which no candidate can be told from another.
   const double tolerance = this->ReferenceTolerance;
+  if (!reuse)
   {
     std::vector<double> origins, directions;
     for (const Ray& ray : I.Rays)
@@ -406,6 +436,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       directions.data(),
       I.Reference.data());
   }
+  I.ReferenceKey = key;
 
   // The chords and deviations the rays meet.
   vtkSMPThreadLocal<double> chords(0.0), deviations(0.0);
@@ -465,6 +496,20 @@ double vtkPreIntegrationTableSizer::Measure(int tableSize,
   double deviationRange)
 {
   vtkInternals& I = *this->Internals;
+  return I.Table ? this->MeasureCandidate(tableSize, chordSize, deviationSize, chordRange,
+                     deviationRange, I.Table->GetPrefilter())
+                 : -1.0;
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
+  int chordSize,
+  int deviationSize,
+  double chordRange,
+  double deviationRange,
+  bool prefilter)
+{
+  vtkInternals& I = *this->Internals;
   if (!I.Table || tableSize < 2 || chordSize < 1 || deviationSize < 1)
   {
     return -1.0;
@@ -476,7 +521,7 @@ double vtkPreIntegrationTableSizer::Measure(int tableSize,
   scratch->SetScalarRange(I.Table->GetScalarRange());
   scratch->SetSegmentLength(I.Table->GetSegmentLength());
   scratch->SetIterations(I.Table->GetIterations());
-  scratch->SetPrefilter(I.Table->GetPrefilter());
+  scratch->SetPrefilter(prefilter);
   scratch->SetTableSize(tableSize);
   scratch->SetChordSize(chordSize);
   scratch->SetDeviationSize(deviationSize);
@@ -568,9 +613,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     }
     return std::max(size, 3);
   };
-  auto makeCandidate = [&](int centreLevel, int chordFactor, int deviationFactor)
+  auto makeCandidate = [&](int centreLevel, int chordFactor, int deviationFactor, bool prefilter)
   {
     Candidate c;
+    c.Prefilter = prefilter;
     // 2^k + 1 entries, or as many as an axis can hold (a texture limit is often a power of 2).
     c.Sizes[0] = std::min((1 << centreLevel) + 1, this->MaximumAxisSize);
     const double spacing = width / (c.Sizes[0] - 1);
@@ -585,12 +631,14 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   {
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
     {
-      if (std::equal(c.Sizes, c.Sizes + 3, I.Candidates[i].Sizes))
+      if (std::equal(c.Sizes, c.Sizes + 3, I.Candidates[i].Sizes) &&
+        c.Prefilter == I.Candidates[i].Prefilter)
       {
         return i;
       }
     }
-    c.Error = this->Measure(c.Sizes[0], c.Sizes[1], c.Sizes[2], chordRange, deviationRange);
+    c.Error = this->MeasureCandidate(
+      c.Sizes[0], c.Sizes[1], c.Sizes[2], chordRange, deviationRange, c.Prefilter);
     c.PerRay = I.LastPerRay;
     I.Candidates.push_back(c);
     return static_cast<int>(I.Candidates.size()) - 1;
@@ -668,9 +716,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   // interpolation smooths over the segment model's own error) on one axis and not another,
   // so no search that skips some of them finds the best reliably.
   const int factors[4] = { 1, 2, 4, 8 };
+  const bool kept = table->GetPrefilter();
   for (int level = 5; level <= 16; ++level)
   {
-    if (!fits(makeCandidate(level, 8, order == 2 ? 8 : 1)))
+    if (!fits(makeCandidate(level, 8, order == 2 ? 8 : 1, kept)))
     {
       break; // every coarser spacing of this centre size is larger still
     }
@@ -679,12 +728,19 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     {
       for (int fd : factors)
       {
-        const Candidate c = makeCandidate(level, fb, order == 2 ? fd : 1);
-        if ((order == 1 && fd != 1) || !fits(c))
+        if (order == 1 && fd != 1)
         {
           continue;
         }
-        evaluate(c);
+        for (int p = 0; p < (this->MeasurePrefilter ? 2 : 1); ++p)
+        {
+          const Candidate c =
+            makeCandidate(level, fb, order == 2 ? fd : 1, this->MeasurePrefilter ? p == 1 : kept);
+          if (fits(c))
+          {
+            evaluate(c);
+          }
+        }
       }
     }
     if (last)
@@ -693,12 +749,19 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     }
   }
 
-  // The least memory among the good candidates.
+  // The least memory among the good candidates; of equal memory (with and without the
+  // prefilter), the smaller error.
   for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
   {
     const Candidate& c = I.Candidates[i];
-    if (good(i) &&
-      (this->ChosenCandidate < 0 || c.Memory < I.Candidates[this->ChosenCandidate].Memory))
+    if (!good(i))
+    {
+      continue;
+    }
+    const Candidate* chosen =
+      this->ChosenCandidate < 0 ? nullptr : &I.Candidates[this->ChosenCandidate];
+    if (!chosen || c.Memory < chosen->Memory ||
+      (c.Memory == chosen->Memory && c.Error < chosen->Error))
     {
       this->ChosenCandidate = i;
     }
@@ -719,6 +782,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   table->SetDeviationSize(chosen.Sizes[2]);
   table->SetChordRange(chordRange);
   table->SetDeviationRange(deviationRange);
+  if (this->MeasurePrefilter)
+  {
+    table->SetPrefilter(chosen.Prefilter);
+  }
   this->LastChooseTime = vtkTimerLog::GetUniversalTime() - start;
   return true;
 }
@@ -735,6 +802,7 @@ void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumAxisSize: " << this->MaximumAxisSize << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "ReferenceTolerance: " << this->ReferenceTolerance << "\n";
+  os << indent << "MeasurePrefilter: " << this->MeasurePrefilter << "\n";
   os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
   os << indent << "ExactError: " << this->ExactError << "\n";
 }

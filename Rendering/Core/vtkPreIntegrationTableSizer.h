@@ -122,6 +122,20 @@ public:
 
   ///@{
   /**
+   * Measure every candidate size both with and without the prefilter
+   * (vtkSecondOrderPreIntegrationTable::Prefilter) and let Choose() set the table's Prefilter
+   * to the chosen candidate's; otherwise the table's own Prefilter is kept and measured. The
+   * prefilter keeps a narrow feature's integral over scalar values and blurs it along rays that
+   * linger near it: which of the two matters more depends on the transfer function and the
+   * data, so it is measured like a size. It doubles the measuring time. Initial value is false.
+   */
+  vtkSetMacro(MeasurePrefilter, bool);
+  vtkGetMacro(MeasurePrefilter, bool);
+  vtkBooleanMacro(MeasurePrefilter, bool);
+  ///@}
+
+  ///@{
+  /**
    * Rays stop once their opacity exceeds this value, as the renderer's. Initial value is
    * 1 - 1/255.
    */
@@ -135,7 +149,7 @@ public:
    * sampleDistance (world units) apart, composited in order 1 (segments: the table gets
    * DeviationSize 1) or 2 (slabs): Prepare(), then the search. The table must have its
    * transfer functions, scalar range and segment length set (sampleDistance, or twice it for
-   * order 2); its Iterations and Prefilter are kept. Returns false and reports an error on bad
+   * order 2); its Iterations are kept, and its Prefilter unless MeasurePrefilter. Returns false and reports an error on bad
    * input; the table is then unchanged.
    */
   bool Choose(vtkImageData* volume,
@@ -188,7 +202,7 @@ public:
   ///@{
   /**
    * What the last Choose() measured: the candidates in the order they were evaluated (their
-   * TableSize, ChordSize and DeviationSize, their error and memory in bytes), the one chosen
+   * TableSize, ChordSize and DeviationSize, prefilter, error and memory in bytes), the one chosen
    * (-1 if none), the error of the exact segment model (no table; -1 unless
    * MeasureExactModel), the rays that met the volume, and the wall time in seconds.
    */
@@ -196,6 +210,7 @@ public:
   void GetCandidateSizes(int candidate, int sizes[3]) const;
   double GetCandidateError(int candidate) const;
   double GetCandidateMemory(int candidate) const;
+  bool GetCandidatePrefilter(int candidate) const;
   vtkGetMacro(ChosenCandidate, int);
   vtkGetMacro(ExactError, double);
   vtkGetMacro(NumberOfRaysInVolume, int);
@@ -214,6 +229,7 @@ protected:
   int MaximumAxisSize = 4097;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
   bool MeasureExactModel = false;
+  bool MeasurePrefilter = false;
   double ReferenceTolerance = 1.0 / 64.0;
   int ChosenCandidate = -1;
   double ExactError = 0.0;
@@ -223,6 +239,14 @@ protected:
   double MeasuredDeviationRange = 0.0;
 
 private:
+  // Measure() with an explicit prefilter.
+  double MeasureCandidate(int tableSize,
+    int chordSize,
+    int deviationSize,
+    double chordRange,
+    double deviationRange,
+    bool prefilter);
+
   vtkPreIntegrationTableSizer(const vtkPreIntegrationTableSizer&) = delete;
   void operator=(const vtkPreIntegrationTableSizer&) = delete;
 

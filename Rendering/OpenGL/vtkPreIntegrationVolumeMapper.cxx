@@ -121,22 +121,6 @@ int vtkPreIntegrationVolumeMapper::GetIterations()
   return this->SecondOrderTable->GetIterations();
 }
 
-//------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeMapper::SetTablePrefilter(bool prefilter)
-{
-  if (prefilter != this->SecondOrderTable->GetPrefilter())
-  {
-    this->FirstOrderTable->SetPrefilter(prefilter);
-    this->SecondOrderTable->SetPrefilter(prefilter);
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-bool vtkPreIntegrationVolumeMapper::GetTablePrefilter()
-{
-  return this->SecondOrderTable->GetPrefilter();
-}
 
 //------------------------------------------------------------------------------
 vtkSecondOrderPreIntegrationTable* vtkPreIntegrationVolumeMapper::GetActiveTable()
@@ -299,6 +283,12 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
                                   : vtkTextureObject::GetMaximumTextureSize(context);
   const int limit = std::min(maxSize > 0 ? maxSize : 2048, MaximumAxisSize);
+  const bool measurePrefilter =
+    this->TablePrefilter == PREFILTER_AUTOMATIC && !secondOrder && this->TableSize == 0;
+  if (!measurePrefilter)
+  {
+    table->SetPrefilter(this->TablePrefilter == PREFILTER_ON);
+  }
   if (this->TableSize > 0)
   {
     // N entries on every axis, over every chord and deviation of the range.
@@ -322,6 +312,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   // measure) get a table of 256 entries on every axis.
   if (cellFlag != 0 || !input || scalars->GetNumberOfComponents() != 1)
   {
+    table->SetPrefilter(this->TablePrefilter == PREFILTER_ON);
     table->SetTableSize(256);
     table->SetChordSize(secondOrder ? 65 : 256);
     table->SetChordRange(0.0);
@@ -343,7 +334,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     this->TableMemoryLimit,
     static_cast<double>(bytes[precision]),
     static_cast<double>(limit),
-    static_cast<double>(table->GetPrefilter()),
+    static_cast<double>(this->TablePrefilter),
     static_cast<double>(table->GetIterations()) };
   if (key == this->TableSizeKey)
   {
@@ -353,6 +344,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   this->TableSizer->SetBytesPerEntry(bytes[precision]);
   this->TableSizer->SetMaximumAxisSize(limit);
   this->TableSizer->SetOpacityThreshold(this->OpacityThreshold);
+  this->TableSizer->SetMeasurePrefilter(measurePrefilter);
   if (!this->TableSizer->Choose(input, scalars, table, secondOrder ? 2 : 1, this->SampleDistance))
   {
     vtkErrorMacro("No pre-integration table could be sized; not drawing.");
@@ -678,7 +670,7 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastTableBuiltOnGPU: " << this->LastTableBuiltOnGPU << "\n";
   os << indent << "LastTableBuildTime: " << this->LastTableBuildTime << "\n";
   os << indent << "Iterations: " << this->GetIterations() << "\n";
-  os << indent << "TablePrefilter: " << this->GetTablePrefilter() << "\n";
+  os << indent << "TablePrefilter: " << this->TablePrefilter << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
   os << indent << "VolumePrecision: " << this->VolumePrecision << "\n";

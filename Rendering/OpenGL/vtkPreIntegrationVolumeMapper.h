@@ -78,6 +78,13 @@ public:
     PRECISION_FLOAT32 = 3
   };
 
+  enum TablePrefilters
+  {
+    PREFILTER_OFF = 0,      ///< the transfer function as it is
+    PREFILTER_ON = 1,       ///< box-averaged over one centre spacing
+    PREFILTER_AUTOMATIC = 2 ///< measured by the sizer for first order; off otherwise
+  };
+
   enum VolumePrecisions
   {
     VOLUME_PRECISION_AUTOMATIC = 0, ///< 8-bit integers in 16 bits, other types as VTK uploads them
@@ -184,12 +191,16 @@ public:
    * Box-average the transfer function over one entry spacing of the table's centre axis before
    * integrating (vtkSecondOrderPreIntegrationTable::Prefilter). It keeps the integral over
    * scalar values of features narrower than a spacing, but a ray whose scalar lingers next to
-   * such a feature collects opacity the transfer function does not give it; with measured
-   * table sizes the prefilter is not needed. Initial value is false.
+   * such a feature collects opacity the transfer function does not give it. PREFILTER_OFF (or
+   * false) and PREFILTER_ON (or true) hold for both orders and every table size;
+   * PREFILTER_AUTOMATIC lets the sizer measure each candidate of a first-order table with and
+   * without it (vtkPreIntegrationTableSizer::MeasurePrefilter) when TableSize is 0, and leaves
+   * it off otherwise: for second order the measured gain is rarely worth the doubled measuring
+   * time. GetActiveTable()->GetPrefilter() tells what was used. Initial value is
+   * PREFILTER_AUTOMATIC.
    */
-  virtual void SetTablePrefilter(bool prefilter);
-  virtual bool GetTablePrefilter();
-  vtkBooleanMacro(TablePrefilter, bool);
+  vtkSetClampMacro(TablePrefilter, int, PREFILTER_OFF, PREFILTER_AUTOMATIC);
+  vtkGetMacro(TablePrefilter, int);
   ///@}
 
   ///@{
@@ -289,6 +300,7 @@ protected:
   int Integration = FIRST_ORDER;
   int TableSize = 0;
   int TablePrecision = PRECISION_AUTOMATIC;
+  int TablePrefilter = PREFILTER_AUTOMATIC;
   int TableBuilder = BUILD_AUTOMATIC;
   bool SkipEmptySegments = false;
   bool LastTableBuiltOnGPU = false;

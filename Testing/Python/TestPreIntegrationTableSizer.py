@@ -5,11 +5,13 @@ Marschner-Lobb, 26 to 36 points a side) stored as uint8, 16-bit (12- or 16-bit r
 (a random range from 0.01 to 10^4 wide), a transfer function of one to four random features
 (opacity spikes, steps to a plateau, plateaus with steep sides, ramps; widths 0.2% to 15% of
 the range, peak opacities 0.02 to 1), a random unit distance and a step of 1/4 to 4 voxels.
-For each case and both orders, vtkPreIntegrationTableSizer chooses the table's sizes; an
-independent judge (another sizer: other seed, four times the rays) then measures, on its own
-rays, the error of the chosen table and of every table of a sweep (centre axes of 33 to 2049
-entries, chord and deviation spacings 1, 2, 4 and 8 times the centre spacing, within the memory
-limit), all with the chosen chord and deviation ranges. The chosen table must come within 5% of
+For each case and both orders, vtkPreIntegrationTableSizer chooses the table's sizes (and for
+first order, as the mapper's automatic prefilter does, whether to prefilter); an independent
+judge (another sizer: other seed, four times the rays) then measures, on its own rays, the
+error of the chosen table and of every table of a sweep (centre axes of 33 to 2049 entries,
+chord and deviation spacings 1, 2, 4 and 8 times the centre spacing, within the memory limit;
+for first order each with and without the prefilter), all with the chosen chord and deviation
+ranges. The chosen table must come within 5% of
 the best of the sweep, to the precision the judge's rays measure it: the per-ray errors are
 heavy-tailed (rays grazing a sharp feature carry most of the error), so independent ray sets of
 8192 rays can disagree on a table's error by 10%. A case fails when the judge finds the chosen
@@ -126,44 +128,50 @@ def sweep_axis(extent, spacing):
     return max(3, 2 * math.ceil(extent / spacing - 1e-9) + 1)
 
 
-def run_case(seed, order, step, image, prop):
+def run_case(seed, order, step, image, prop, table, sizer, judge):
+    """The sizer's choice for one order and the judge's sweep. The table, the sizer and the
+    judge serve both orders of a case: the sizers keep their rays' reference between them."""
     scalars = image.GetPointData().GetScalars()
     low, high = scalars.GetRange()
-    table = hovr.vtkSecondOrderPreIntegrationTable()
     table.SetVolumeProperty(prop)
     table.SetScalarRange(low, high)
     table.SetSegmentLength(order * step)
-    sizer = hovr.vtkPreIntegrationTableSizer()
+    table.SetPrefilter(False)
+    sizer.SetMeasurePrefilter(order == 1)  # as the mapper's automatic prefilter
     start = time.perf_counter()
     if not sizer.Choose(image, scalars, table, order, step):
         return None
     choose_s = time.perf_counter() - start
     chosen = (table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize())
+    chosen_prefilter = table.GetPrefilter()
     chord, deviation = table.GetChordRange(), table.GetDeviationRange()
-    judge = hovr.vtkPreIntegrationTableSizer()
-    judge.SetSeed(10000 + seed)
-    judge.SetNumberOfRays(JUDGE_RAYS)
     judge.Prepare(image, scalars, table, order, step)
     chosen_error = judge.Measure(*chosen, chord, deviation)
     chosen_rays = vtkDoubleArray()
     judge.GetLastMeasurePerRay(chosen_rays)
     best_error, best, best_rays = math.inf, None, None
+    best_by_prefilter = {}
     width = high - low
     limit = sizer.GetMaximumMemory()
-    for level in range(5, 12):
-        centre = 2 ** level + 1
-        spacing = width / (centre - 1)
-        for fb in (1, 2, 4, 8):
-            for fd in ((1, 2, 4, 8) if order == 2 else (1,)):
-                sizes = (centre, sweep_axis(chord, fb * spacing),
-                         sweep_axis(deviation, fd * spacing) if order == 2 else 1)
-                if max(sizes) > 4097 or sizes[0] * sizes[1] * sizes[2] * 8 > limit:
-                    continue
-                error = judge.Measure(*sizes, chord, deviation)
-                if 0 <= error < best_error:
-                    best_error, best = error, sizes
-                    best_rays = vtkDoubleArray()
-                    judge.GetLastMeasurePerRay(best_rays)
+    for prefilter in ((False, True) if order == 1 else (False,)):
+        table.SetPrefilter(prefilter)  # what the judge's Measure() uses
+        for level in range(5, 12):
+            centre = 2 ** level + 1
+            spacing = width / (centre - 1)
+            for fb in (1, 2, 4, 8):
+                for fd in ((1, 2, 4, 8) if order == 2 else (1,)):
+                    sizes = (centre, sweep_axis(chord, fb * spacing),
+                             sweep_axis(deviation, fd * spacing) if order == 2 else 1)
+                    if max(sizes) > 4097 or sizes[0] * sizes[1] * sizes[2] * 8 > limit:
+                        continue
+                    error = judge.Measure(*sizes, chord, deviation)
+                    if 0 <= error < best_by_prefilter.get(prefilter, math.inf):
+                        best_by_prefilter[prefilter] = error
+                    if 0 <= error < best_error:
+                        best_error, best = error, sizes + (("prefiltered",) if prefilter else ())
+                        best_rays = vtkDoubleArray()
+                        judge.GetLastMeasurePerRay(best_rays)
+    table.SetPrefilter(chosen_prefilter)
     # Paired over the judge's rays: the chosen table's excess over the best, less two standard
     # errors, as a ratio of errors (1 when they cannot be told apart).
     differences = vtk_to_numpy(chosen_rays) - vtk_to_numpy(best_rays)
@@ -173,9 +181,12 @@ def run_case(seed, order, step, image, prop):
     start = time.perf_counter()
     table.Update()
     build_s = time.perf_counter() - start
+    if chosen_prefilter:
+        chosen = chosen + ("prefiltered",)
     return {"chosen": chosen, "chosen_error": chosen_error, "best": best,
             "best_error": best_error, "ratio": chosen_error / best_error if best_error > 0 else 1.0,
-            "lower": lower,
+            "lower": lower, "prefilter_gain": best_by_prefilter.get(True, math.nan)
+            / best_by_prefilter[False], "prefiltered": chosen_prefilter,
             "choose_s": choose_s, "build_s": build_s,
             "mib": table.GetNumberOfEntries() * 8 / 2 ** 20}
 
@@ -189,10 +200,27 @@ for case in range(CASES):
     low, high = image.GetPointData().GetScalars().GetRange()
     prop, tf_name = make_property(rng, low, high)
     step = float(rng.choice([0.25, 0.5, 1.0, 2.0, 4.0]))
+    table = hovr.vtkSecondOrderPreIntegrationTable()
+    sizer = hovr.vtkPreIntegrationTableSizer()
+    judge = hovr.vtkPreIntegrationTableSizer()
+    judge.SetSeed(10000 + seed)
+    judge.SetNumberOfRays(JUDGE_RAYS)
     for order in (1, 2):
-        result = run_case(seed, order, step, image, prop)
+        result = run_case(seed, order, step, image, prop, table, sizer, judge)
         if not c.check(result is not None, "seed %d order %d: the sizer chooses" % (seed, order)):
             continue
+        if order == 2 and case < 5:
+            # The sizer kept its reference from order 1: a fresh one must choose the same.
+            fresh_table = hovr.vtkSecondOrderPreIntegrationTable()
+            fresh_table.SetVolumeProperty(prop)
+            fresh_table.SetScalarRange(*image.GetPointData().GetScalars().GetRange())
+            fresh_table.SetSegmentLength(order * step)
+            hovr.vtkPreIntegrationTableSizer().Choose(image, image.GetPointData().GetScalars(),
+                                                      fresh_table, order, step)
+            fresh = (fresh_table.GetTableSize(), fresh_table.GetChordSize(),
+                     fresh_table.GetDeviationSize())
+            c.check(fresh == result["chosen"], "seed %d: a fresh sizer chooses %s as the one "
+                    "that kept its reference (%s)" % (seed, fresh, result["chosen"]))
         result["label"] = "seed %d, order %d, step %g, %s, %s, unit %.2f" % (
             seed, order, step, volume_name, tf_name, prop.GetScalarOpacityUnitDistance())
         results.append(result)
@@ -211,11 +239,23 @@ print("%d cases: chosen error over the best swept: median %.3f, worst %.3f (at l
       "confidence; %s); %d over %.2f as measured, %d with confidence"
       % (len(results), numpy.median(ratios), worst["ratio"], worst["lower"], worst["label"],
          int((ratios > TOLERANCE).sum()), TOLERANCE, int((lowers > TOLERANCE).sum())))
-print("chosen tables: memory median %.2f MiB, largest %.2f MiB; measuring median %.2f s, "
-      "longest %.2f s; building median %.3f s, longest %.3f s" % (
+fresh = [r["choose_s"] for r in results if r["label"].split(", ")[1] == "order 1"]
+kept = [r["choose_s"] for r in results if r["label"].split(", ")[1] == "order 2"]
+print("chosen tables: memory median %.2f MiB, largest %.2f MiB; building median %.3f s, longest "
+      "%.3f s; measuring, first order with its rays' reference (as for a new transfer function), "
+      "median %.2f s, longest %.2f s; second order, the reference kept (as when the step or the "
+      "order changes), median %.2f s, longest %.2f s" % (
           numpy.median([r["mib"] for r in results]), max(r["mib"] for r in results),
-          numpy.median([r["choose_s"] for r in results]), max(r["choose_s"] for r in results),
-          numpy.median([r["build_s"] for r in results]), max(r["build_s"] for r in results)))
+          numpy.median([r["build_s"] for r in results]), max(r["build_s"] for r in results),
+          numpy.median(fresh), max(fresh), numpy.median(kept), max(kept)))
+first = [r for r in results if r["label"].split(", ")[1] == "order 1"]
+gains = numpy.array([r["prefilter_gain"] for r in first])
+print("first order: the best prefiltered table's error over the best unprefiltered one's: median "
+      "%.3f, least %.3f, largest %.3f; below 0.95 in %d of %d cases, above 1.05 in %d; the sizer "
+      "chose the prefilter in %d" % (numpy.median(gains), gains.min(), gains.max(),
+                                     int((gains < 0.95).sum()), len(first),
+                                     int((gains > 1.05).sum()),
+                                     sum(r["prefiltered"] for r in first)))
 c.check(len(results) == 2 * CASES, "every case measured")
 for r in results:
     c.check(r["lower"] <= TOLERANCE, "%s: the chosen table's error is within 5%% of the best "

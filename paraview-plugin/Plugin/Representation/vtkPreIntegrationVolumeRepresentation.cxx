@@ -28,6 +28,7 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
   this->TablePrecision = mapper->GetTablePrecision();
   this->Iterations = mapper->GetIterations();
   this->TablePrefilter = mapper->GetTablePrefilter();
+  this->VolumePrecision = mapper->GetVolumePrecision();
   this->VolumeMapper = mapper;
   this->PreIntegrationMapper = mapper;
   this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
@@ -126,6 +127,7 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
     mapper->SetTablePrecision(this->TablePrecision);
     mapper->SetIterations(this->Iterations);
     mapper->SetTablePrefilter(this->TablePrefilter);
+    mapper->SetVolumePrecision(this->VolumePrecision);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -202,7 +204,8 @@ void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent ind
   os << indent << "TableMemoryLimit: " << this->TableMemoryLimit << "\n";
   os << indent << "TablePrecision: " << this->TablePrecision << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
-  os << indent << "TablePrefilter: " << (this->TablePrefilter ? "On" : "Off") << "\n";
+  os << indent << "TablePrefilter: " << this->TablePrefilter << "\n";
+  os << indent << "VolumePrecision: " << this->VolumePrecision << "\n";
   os << indent << "ObjectOrderClassification: " << this->ObjectOrderClassification << "\n";
   os << indent << "ObjectOrderShading: " << this->ObjectOrderShading << "\n";
   os << indent << "InterleavedSampling: " << (this->InterleavedSampling ? "On" : "Off") << "\n";

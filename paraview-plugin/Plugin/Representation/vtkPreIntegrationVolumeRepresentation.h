@@ -120,11 +120,22 @@ public:
 
   ///@{
   /**
-   * Box-average the transfer function over one entry spacing of the table's centre axis (see
-   * vtkPreIntegrationVolumeMapper::SetTablePrefilter). Initial value is the mapper's, false.
+   * Box-average the transfer function over one entry spacing of the table's centre axis: a
+   * value of vtkPreIntegrationVolumeMapper::TablePrefilters, passed on unchanged (the mapper
+   * clamps it). Initial value is the mapper's, PREFILTER_AUTOMATIC.
    */
-  vtkSetMacro(TablePrefilter, bool);
-  vtkGetMacro(TablePrefilter, bool);
+  vtkSetMacro(TablePrefilter, int);
+  vtkGetMacro(TablePrefilter, int);
+  ///@}
+
+  ///@{
+  /**
+   * How the volume is uploaded: a value of vtkPreIntegrationVolumeMapper::VolumePrecisions,
+   * passed on unchanged (the mapper clamps it). Initial value is the mapper's,
+   * VOLUME_PRECISION_AUTOMATIC.
+   */
+  vtkSetMacro(VolumePrecision, int);
+  vtkGetMacro(VolumePrecision, int);
   ///@}
 
   ///@{
@@ -194,7 +205,8 @@ protected:
   double TableMemoryLimit;
   int TablePrecision;
   int Iterations;
-  bool TablePrefilter;
+  int TablePrefilter;
+  int VolumePrecision;
   int ObjectOrderClassification;
   int ObjectOrderShading;
   bool InterleavedSampling;

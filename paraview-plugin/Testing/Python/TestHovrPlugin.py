@@ -204,7 +204,8 @@ def main():
 
     properties = display.ListProperties()
     for name in ("HovrIntegration", "HovrSampleDistance", "HovrTableSize", "HovrTablePrecision",
-                 "HovrIterations", "HovrTablePrefilter", "HovrTableMemoryLimit") + CPU_PROPERTIES:
+                 "HovrIterations", "HovrTablePrefilter", "HovrTableMemoryLimit",
+                 "HovrVolumePrecision") + CPU_PROPERTIES:
         checker.check(name in properties, "the representation exposes %s" % name)
     checker.check("HovrHalfFloatTable" not in properties,
                   "HovrHalfFloatTable is gone (replaced by HovrTablePrecision)")
@@ -225,8 +226,16 @@ def main():
                   "Table Precision defaults to Automatic (%s)" % display.HovrTablePrecision)
     checker.check(display.HovrIterations == 64,
                   "Iterations defaults to 64 (%s)" % display.HovrIterations)
-    checker.check(display.HovrTablePrefilter == 0,
-                  "Table Prefilter defaults to off (%s)" % display.HovrTablePrefilter)
+    prefilters = list(display.GetProperty("HovrTablePrefilter").Available)
+    checker.check(prefilters == ["Off", "On", "Automatic"],
+                  "Table Prefilter choices (%s)" % prefilters)
+    checker.check(display.HovrTablePrefilter == "Automatic",
+                  "Table Prefilter defaults to Automatic (%s)" % display.HovrTablePrefilter)
+    volume_precisions = list(display.GetProperty("HovrVolumePrecision").Available)
+    checker.check(volume_precisions == ["Automatic", "Native", "16-bit", "Float"],
+                  "Volume Precision choices (%s)" % volume_precisions)
+    checker.check(display.HovrVolumePrecision == "Automatic",
+                  "Volume Precision defaults to Automatic (%s)" % display.HovrVolumePrecision)
     checker.check(display.HovrTableMemoryLimit == 64 * 2 ** 20,
                   "Table Memory Limit defaults to 64 MiB (%s)" % display.HovrTableMemoryLimit)
     cpu_defaults = [display.GetPropertyValue(name) for name in CPU_PROPERTIES]
@@ -352,18 +361,23 @@ def main():
     display.HovrIterations = 64
     display.HovrTablePrecision = "Automatic"
 
-    display.HovrTablePrefilter = 1
+    display.HovrTablePrefilter = "On"
     display.HovrTableMemoryLimit = 2 ** 20
+    display.HovrVolumePrecision = "Float"
     Render(view)
     if drawing_mapper_here:
         checker.check(mapper_setting(mapper, "TablePrefilter") == 1,
                       "Table Prefilter reaches the mapper (%s)"
                       % mapper_setting(mapper, "TablePrefilter"))
+        checker.check(mapper_setting(mapper, "VolumePrecision") == 3,
+                      "Volume Precision reaches the mapper (%s)"
+                      % mapper_setting(mapper, "VolumePrecision"))
         checker.check(mapper_setting(mapper, "TableMemoryLimit") == 2 ** 20,
                       "Table Memory Limit reaches the mapper (%s)"
                       % mapper_setting(mapper, "TableMemoryLimit"))
-    display.HovrTablePrefilter = 0
+    display.HovrTablePrefilter = "Automatic"
     display.HovrTableMemoryLimit = 64 * 2 ** 20
+    display.HovrVolumePrecision = "Automatic"
     display.HovrTableSize = TABLE_SIZE
 
     display.HovrIntegration = "Stock"

@@ -95,8 +95,8 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
   // boundary inside the volume costs up to one segment per crossing (the skip flag applies to
   // whole segments, as to whole samples in VTK); clipping planes and the depth of opaque
   // geometry cut segments exactly.
-  // Jittering is tested at 1 voxel, where it visibly changes the image (by 0.037); it must
-  // not make the error worse than without it.
+  // Jittering is tested at 1 voxel, where it visibly changes the image; it must not make the
+  // error worse than without it.
   struct Case
   {
     const char* Name;
@@ -156,7 +156,7 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
     { "jittering",
       1.0,
       0.045,
-      0.02, // [0.0425 vs 0.0452 unjittered, change 0.037]
+      0.01, // [0.0327 vs 0.0342 unjittered, change 0.0196]
       [&](vtkVolumeMapper* m) { setJittering(m, 1); },
       [&](vtkVolumeMapper* m) { setJittering(m, 0); } },
   };
