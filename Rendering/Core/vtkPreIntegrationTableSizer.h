@@ -161,8 +161,11 @@ public:
   /**
    * The measuring part of Choose(): casts the random rays, integrates the reference and the
    * exact segment model along them, and measures the largest chord and deviation
-   * (GetMeasuredChordRange(), GetMeasuredDeviationRange()). The table is not changed; it must
-   * stay alive while Measure() is used.
+   * (GetMeasuredChordRange(), GetMeasuredDeviationRange()). The rays and their reference are
+   * kept from the last Prepare() while the volume, its scalars, the table's transfer functions
+   * and scalar range, Seed, NumberOfRays and ReferenceTolerance stay the same (by pointer and
+   * modification time), so a change of order or sample distance costs only the candidates. The
+   * table is not changed; it must stay alive while Measure() is used.
    */
   bool Prepare(vtkImageData* volume,
     vtkDataArray* scalars,
