@@ -79,4 +79,14 @@ if c.check(os.path.isfile(object_binary), "the C++ object-order example is built
     c.check(process.returncode == 0 and hidden is not None and float(hidden.group(1)) > 50.0,
             "C++ object-order example: over half of the non-transparent cells hidden (%s)"
             % process.stderr.strip())
+# The table sweep: the sizer's choice, the exact segment model and a sweep, each with an RMSE.
+process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                       "table_sweep.py"),
+                          "--size", "32", "--centres", "33"], capture_output=True, text=True)
+print("table sweep", process.stdout.strip())
+c.check(process.returncode == 0, "table sweep exits 0 (%s)" % process.stderr.strip())
+errors = [float(e) for e in re.findall(r"RMSE ([0-9.]+)", process.stdout)]
+c.check(re.search(r"chosen by the sizer: \d+x\d+x\d+", process.stdout) is not None
+        and len(errors) >= 4 and all(0.0 < e < 1.0 for e in errors),
+        "table sweep prints the chosen table and the errors of the exact model and the sweep")
 c.finish()
