@@ -141,10 +141,10 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
         double result[4] = { 0, 0, 0, 0 }, t0, t1;
         if (grid.Clip(o, v, t0, t1))
         {
-          if (this->ExactSegments)
+          auto cast = [&](const auto& pieces)
           {
             vtkPreIntegrationRayMarch::Cast(grid,
-              exact,
+              pieces,
               order,
               this->SampleDistance,
               this->OpacityThreshold,
@@ -153,19 +153,14 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
               t0,
               t1,
               result);
+          };
+          if (this->ExactSegments)
+          {
+            cast(exact);
           }
           else
           {
-            vtkPreIntegrationRayMarch::Cast(grid,
-              table,
-              order,
-              this->SampleDistance,
-              this->OpacityThreshold,
-              o,
-              v,
-              t0,
-              t1,
-              result);
+            cast(table);
           }
         }
         for (int c = 0; c < 4; ++c)

@@ -377,8 +377,8 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   {
     I.Rays.clear();
   }
-  for (int attempt = 0; !reuse &&
-       attempt < 8 * this->NumberOfRays && static_cast<int>(I.Rays.size()) < this->NumberOfRays;
+  for (int attempt = 0; !reuse && attempt < 8 * this->NumberOfRays &&
+       static_cast<int>(I.Rays.size()) < this->NumberOfRays;
        ++attempt)
   {
     static const int bases[4] = { 2, 3, 5, 7 };
@@ -496,9 +496,10 @@ double vtkPreIntegrationTableSizer::Measure(int tableSize,
   double deviationRange)
 {
   vtkInternals& I = *this->Internals;
-  return I.Table ? this->MeasureCandidate(tableSize, chordSize, deviationSize, chordRange,
-                     deviationRange, I.Table->GetPrefilter())
-                 : -1.0;
+  return I.Table
+    ? this->MeasureCandidate(
+        tableSize, chordSize, deviationSize, chordRange, deviationRange, I.Table->GetPrefilter())
+    : -1.0;
 }
 
 //------------------------------------------------------------------------------

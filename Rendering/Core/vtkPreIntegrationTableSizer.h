@@ -149,8 +149,8 @@ public:
    * sampleDistance (world units) apart, composited in order 1 (segments: the table gets
    * DeviationSize 1) or 2 (slabs): Prepare(), then the search. The table must have its
    * transfer functions, scalar range and segment length set (sampleDistance, or twice it for
-   * order 2); its Iterations are kept, and its Prefilter unless MeasurePrefilter. Returns false and reports an error on bad
-   * input; the table is then unchanged.
+   * order 2); its Iterations are kept, and its Prefilter unless MeasurePrefilter. Returns false and
+   * reports an error on bad input; the table is then unchanged.
    */
   bool Choose(vtkImageData* volume,
     vtkDataArray* scalars,

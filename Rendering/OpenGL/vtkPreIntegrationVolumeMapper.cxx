@@ -121,7 +121,6 @@ int vtkPreIntegrationVolumeMapper::GetIterations()
   return this->SecondOrderTable->GetIterations();
 }
 
-
 //------------------------------------------------------------------------------
 vtkSecondOrderPreIntegrationTable* vtkPreIntegrationVolumeMapper::GetActiveTable()
 {

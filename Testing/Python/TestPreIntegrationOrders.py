@@ -25,8 +25,7 @@ from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumePrope
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import (Checker, blobs, image_from_array, marschner_lobb_scene, shared_scene,
-                         spike_property)
+from hovrtesting import Checker, blobs, cast_image, image_from_array, spike_scenes
 
 c = Checker()
 renderer = hm.Renderer()
@@ -40,34 +39,14 @@ def error(image, reference):
 
 def exact(scene, order, step):
     """The exact segment model of an order at a step (no table)."""
-    caster = hovr.vtkPreIntegrationRayCaster()
     table = hovr.vtkSecondOrderPreIntegrationTable()
     table.SetTableSize(3)
     table.SetChordSize(3)
     table.SetDeviationSize(3 if order == 2 else 1)
-    caster.SetTable(table)
-    caster.SetIntegration(order)
-    caster.SetExactSegments(True)
-    caster.SetInputData(scene.image)
-    caster.SetVolumeProperty(scene.prop)
-    caster.SetCamera(scene.camera)
-    caster.SetImageSize(*scene.size)
-    caster.SetSampleDistance(scene.step_length(step))
-    caster.Update()
-    return caster.GetOutput()
+    return cast_image(scene, table, order, step, exact=True)
 
 
-scenes = [("Marschner-Lobb 41", marschner_lobb_scene(SIZE))]
-blob_image = image_from_array(blobs().astype(numpy.uint8))
-scenes.append(("blobs", hm.Scene(blob_image, spike_property(),
-                                 hio.default_camera(blob_image.GetBounds()), SIZE)))
-for name in ("neghip", "fuel", "bucky"):
-    scene = shared_scene(name, SIZE)
-    if scene is None:
-        print("skipping %s: ../shared/data is absent" % name)
-    else:
-        scenes.append((name, scene))
-
+scenes = spike_scenes(SIZE)
 for name, scene in scenes:
     reference = renderer.render("reference", scene, 1.0).image
     runs = [(method, step) for method in ("preint1", "preint2") for step in STEPS]

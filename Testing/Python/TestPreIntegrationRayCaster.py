@@ -11,10 +11,10 @@ compositing difference in either would show as a difference of the size of the t
 
 import numpy
 
-import hovr
 from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import Checker, blobs, image_from_array, marschner_lobb_scene, spike_property
+from hovrtesting import (Checker, blobs, cast_image, image_from_array, marschner_lobb_scene,
+                         spike_property)
 
 c = Checker()
 renderer = hm.Renderer()
@@ -38,20 +38,6 @@ class KeepTable(hm.PreIntegrationMethod):
         return super().statistics(mapper)
 
 
-def cast(scene, table, order, step, exact=False):
-    caster = hovr.vtkPreIntegrationRayCaster()
-    caster.SetTable(table)
-    caster.SetIntegration(order)
-    caster.SetExactSegments(exact)
-    caster.SetInputData(scene.image)
-    caster.SetVolumeProperty(scene.prop)
-    caster.SetCamera(scene.camera)
-    caster.SetImageSize(*scene.size)
-    caster.SetSampleDistance(scene.step_length(step))
-    caster.Update()
-    return caster.GetOutput()
-
-
 def rmse(a, b):
     return hm.compare(a, b)[0]["rmse"]
 
@@ -65,8 +51,8 @@ for name, scene in scenes:
         for step in (0.5, 2.0):
             method = KeepTable(order)
             gpu = renderer.render(method, scene, step)
-            twin = cast(scene, method.table, order, step)
-            exact = cast(scene, method.table, order, step, exact=True)
+            twin = cast_image(scene, method.table, order, step)
+            exact = cast_image(scene, method.table, order, step, exact=True)
             difference, table_error = rmse(gpu.image, twin), rmse(twin, exact)
             print("%s, order %d, step %g, table %s: GPU - twin %.6f, twin - exact segments "
                   "%.6f" % (name, order, step, gpu.extra["table_size"], difference, table_error))

@@ -15,10 +15,8 @@ spike transfer function, at 1, 2 and 4 voxels, 64 x 64 images against the refere
 
 import numpy
 
-from hovr import io as hio
 from hovr import methods as hm
-from hovrtesting import (Checker, blobs, image_from_array, marschner_lobb_scene, shared_scene,
-                         spike_property)
+from hovrtesting import Checker, spike_scenes
 
 c = Checker()
 renderer = hm.Renderer()
@@ -42,17 +40,7 @@ class Prefilter(hm.PreIntegrationMethod):
         return stats
 
 
-blob_image = image_from_array(blobs().astype(numpy.uint8))
-scenes = [("Marschner-Lobb 41", marschner_lobb_scene(SIZE)),
-          ("blobs", hm.Scene(blob_image, spike_property(),
-                             hio.default_camera(blob_image.GetBounds()), SIZE))]
-for name in ("neghip", "fuel", "bucky"):
-    scene = shared_scene(name, SIZE)
-    if scene is None:
-        print("skipping %s: ../shared/data is absent" % name)
-    else:
-        scenes.append((name, scene))
-
+scenes = spike_scenes(SIZE)
 second_order = []
 for name, scene in scenes:
     reference = renderer.render("reference", scene, 1.0).image

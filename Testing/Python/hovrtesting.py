@@ -173,3 +173,41 @@ def shared_scene(name, size):
     color, opacity, _ = hio.read_transfer_function(tf_path(preset))
     prop = hio.make_volume_property(color, opacity, 1.0)
     return hm.Scene(image, prop, hio.default_camera(image.GetBounds()), size)
+
+
+def spike_scenes(size):
+    """Marschner-Lobb 41, the uint8 blobs volume with 8-value spikes and (when ../shared/data is
+    present; skipped with a message otherwise) neghip, fuel and bucky, each with its spike
+    transfer function: a list of (name, scene)."""
+    import numpy
+    from hovr import io as hio
+    from hovr import methods as hm
+    blob_image = image_from_array(blobs().astype(numpy.uint8))
+    scenes = [("Marschner-Lobb 41", marschner_lobb_scene(size)),
+              ("blobs", hm.Scene(blob_image, spike_property(),
+                                 hio.default_camera(blob_image.GetBounds()), size))]
+    for name in SHARED_VOLUMES:
+        scene = shared_scene(name, size)
+        if scene is None:
+            print("skipping %s: ../shared/data is absent" % name)
+        else:
+            scenes.append((name, scene))
+    return scenes
+
+
+def cast_image(scene, table, order, step, exact=False):
+    """The image of vtkPreIntegrationRayCaster (the shaders' CPU twin) for a scene with a table
+    (for the exact segment model, a table of any sizes holding only the settings), order and
+    step in voxels."""
+    import hovr
+    caster = hovr.vtkPreIntegrationRayCaster()
+    caster.SetTable(table)
+    caster.SetIntegration(order)
+    caster.SetExactSegments(exact)
+    caster.SetInputData(scene.image)
+    caster.SetVolumeProperty(scene.prop)
+    caster.SetCamera(scene.camera)
+    caster.SetImageSize(*scene.size)
+    caster.SetSampleDistance(scene.step_length(step))
+    caster.Update()
+    return caster.GetOutput()
