@@ -52,10 +52,23 @@ bool vtkCameraRayModel::Prepare()
   this->Camera->GetPosition(this->Position);
   this->Camera->GetFocalPoint(focal);
   this->Camera->GetViewUp(viewUp);
+  auto finite = [](const double v[3])
+  { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+  if (!finite(this->Position) || !finite(focal) || !finite(viewUp))
+  {
+    vtkErrorMacro("The camera's position, focal point and view up must be finite.");
+    return false;
+  }
   vtkMath::Subtract(focal, this->Position, this->Forward);
-  if (vtkMath::Normalize(this->Forward) == 0.0)
+  const double distance = vtkMath::Normalize(this->Forward);
+  if (distance == 0.0)
   {
     vtkErrorMacro("The camera position equals its focal point.");
+    return false;
+  }
+  if (!std::isfinite(distance))
+  {
+    vtkErrorMacro("The camera's distance to its focal point overflows double precision.");
     return false;
   }
   vtkMath::Cross(this->Forward, viewUp, this->Right);
@@ -70,9 +83,22 @@ bool vtkCameraRayModel::Prepare()
   if (this->Parallel)
   {
     this->HalfHeight = this->Camera->GetParallelScale();
-    if (!(this->HalfHeight > 0.0))
+    if (!(this->HalfHeight > 0.0) || !std::isfinite(this->HalfHeight))
     {
-      vtkErrorMacro("The parallel scale must be positive, got " << this->HalfHeight << ".");
+      vtkErrorMacro(
+        "The parallel scale must be positive and finite, got " << this->HalfHeight << ".");
+      return false;
+    }
+    // Parallel rays start on the camera's plane, offset from its position by whole pixels: a
+    // pixel below the rounding of the position would give every pixel the same ray.
+    const double pixel = 2.0 * this->HalfHeight / this->ImageSize[1];
+    const double position = std::max(
+      { std::abs(this->Position[0]), std::abs(this->Position[1]), std::abs(this->Position[2]) });
+    if (!(pixel > std::ldexp(position, -40)))
+    {
+      vtkErrorMacro("A pixel of the parallel projection ("
+        << pixel << " world units) is below the precision of the camera's position (at " << position
+        << "): move the camera closer to the volume or widen the parallel scale.");
       return false;
     }
   }

@@ -35,8 +35,8 @@ class vtkGridRayTraversalT
 public:
   /**
    * Clip the ray to the box [0, dims-1]^3 intersected with [tmin, tmax] and find the first
-   * cell. Returns false when the ray misses the box or the grid has fewer than 2 points on an
-   * axis (no cells).
+   * cell. Returns false when the ray misses the box, its origin or direction is not finite, or
+   * the grid has fewer than 2 points on an axis (no cells).
    */
   bool Initialize(const int dims[3],
     const Real origin[3],
@@ -48,7 +48,8 @@ public:
     Real lo[3] = { 0, 0, 0 }, hi[3];
     for (int a = 0; a < 3; ++a)
     {
-      if (dims[a] < 2)
+      // A non-finite ray meets no cell (and would give no integer cell index).
+      if (dims[a] < 2 || !std::isfinite(origin[a]) || !std::isfinite(direction[a]))
       {
         return false;
       }

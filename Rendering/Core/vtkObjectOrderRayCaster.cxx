@@ -5,6 +5,7 @@
 #include "vtkCameraRayModel.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
+#include "vtkErrorForwarder.h"
 #include "vtkFirstOrderPreIntegrationTable.h"
 #include "vtkFloatArray.h"
 #include "vtkHierarchicalOcclusionMap.h"
@@ -434,15 +435,16 @@ public:
       std::abs(this->Inverse[1][2]) * h[2] + 1e-6;
     // Clipped in double to [lo - 1, hi + 1] before the conversion, which would overflow under
     // extreme zoom; the bounds are integers, so rounding after clipping is the same.
+    // NaN (from a degenerate frame) counts as the whole clip rectangle: conservative.
     auto ceilIn = [](double x, int lo, int hi)
     {
-      x = std::min(std::max(x, lo - 1.0), hi + 1.0);
+      x = std::isnan(x) ? lo : std::min(std::max(x, lo - 1.0), hi + 1.0);
       const int n = static_cast<int>(x); // truncates towards 0
       return n + (n < x ? 1 : 0);
     };
     auto floorIn = [](double x, int lo, int hi)
     {
-      x = std::min(std::max(x, lo - 1.0), hi + 1.0);
+      x = std::isnan(x) ? hi : std::min(std::max(x, lo - 1.0), hi + 1.0);
       const int n = static_cast<int>(x);
       return n - (n > x ? 1 : 0);
     };
@@ -603,6 +605,9 @@ vtkObjectOrderRayCaster::vtkObjectOrderRayCaster()
   , Octree(vtkMinMaxOctree::New())
   , Internals(new vtkInternals)
 {
+  // The table's and octree's errors reach the caster's observers (the Python package's).
+  vtkErrorForwarder::Forward(this->SegmentTable, this);
+  vtkErrorForwarder::Forward(this->Octree, this);
 }
 
 //------------------------------------------------------------------------------
@@ -644,6 +649,10 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   // The image is cleared by the walk where no tile writes it (measured: 0.2 ms less per
   // frame at 512 x 512 than clearing it all first), or all of it when the frame stops before.
   vtkFloatArray* rgba = this->InitializeOutput(vtkImageData::GetData(outputVector), false);
+  if (!rgba)
+  {
+    return 1;
+  }
   struct ClearUnlessWalked
   {
     vtkFloatArray* Image;
@@ -662,25 +671,35 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   {
     return 1;
   }
-  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  if (!this->CheckSampleDistance(input, this->SampleDistance, this->MaximumSamplesPerRay))
   {
-    vtkErrorMacro(
-      "The sample distance must be positive and finite, got " << this->SampleDistance << ".");
     return 1;
   }
   const double diagonal = input->GetLength(); // of the bounds
-  if (diagonal / this->SampleDistance > this->MaximumSamplesPerRay)
+  const double* spacing = input->GetSpacing();
+  const double voxel =
+    std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
+  if (this->SampleDistance < 1e-5 * voxel)
   {
-    vtkErrorMacro("The sample distance "
-      << this->SampleDistance << " takes " << diagonal / this->SampleDistance
-      << " samples along the volume's diagonal, more than " << this->MaximumSamplesPerRay
-      << " (MaximumSamplesPerRay).");
+    vtkErrorMacro("The sample distance " << this->SampleDistance << " is below 1e-5 voxel ("
+                                         << voxel
+                                         << "), where the walker's float positions lose it.");
     return 1;
   }
   if (!this->GetCamera()->GetParallelProjection())
   {
     vtkErrorMacro("Object-order ray casting needs a parallel projection (every cell projects "
                   "to the same shape); the camera has a perspective one.");
+    return 1;
+  }
+
+  double range[2];
+  scalars->GetFiniteRange(range, 0); // not empty: checked by PrepareFrame
+  if (std::max(std::abs(range[0]), std::abs(range[1])) > VTK_FLOAT_MAX)
+  {
+    vtkErrorMacro("The scalar range [" << range[0] << ", " << range[1]
+                                       << "] exceeds float range, in which the caster stores the "
+                                          "volume; rescale the values.");
     return 1;
   }
 
@@ -710,16 +729,10 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   this->UpdateProgress(0.1);
 
   // Classification table over the data range.
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[0] <= range[1]))
+  if (!(range[1] > range[0]))
   {
-    range[0] = 0.0;
-    range[1] = 1.0; // only NaN: nothing is drawn, as every cell is transparent
-  }
-  if (range[1] == range[0])
-  {
-    range[1] = range[0] + 1.0;
+    // A relative width: range[0] + 1 rounds back to range[0] beyond 2^53.
+    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
   }
   const int entries = vtkPreIntegrationTable::SuggestTableSize(
     scalars->GetDataType(), range, this->Sampler, 256, 65536);
@@ -766,9 +779,13 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   vtkNew<vtkMatrix4x4> worldToData; // the inverse of the placement (identity without one)
   if (this->VolumeMatrix)
   {
-    if (this->VolumeMatrix->Determinant() == 0.0)
+    const double* m = this->VolumeMatrix->GetData();
+    const double determinant = this->VolumeMatrix->Determinant();
+    if (!std::all_of(m, m + 16, [](double x) { return std::isfinite(x); }) ||
+      !(std::abs(determinant) > 0.0) || !std::isfinite(determinant))
     {
-      vtkErrorMacro("The volume matrix is singular.");
+      vtkErrorMacro(
+        "The volume matrix must be finite and invertible (determinant " << determinant << ").");
       return 1;
     }
     vtkMatrix4x4::Invert(this->VolumeMatrix, worldToData);
@@ -811,6 +828,27 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     columns[a][2] = I.D[a];
   }
   vtkMath::Invert3x3(columns, I.Inverse);
+  // Rays start at the camera's plane; a camera far from the volume puts sample indices beyond
+  // 2^53, where n + 1 == n. Starting them a whole number of steps later, no nearer than the
+  // box's nearest corner, keeps the same samples and small indices.
+  double nearest = VTK_DOUBLE_MAX;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    double c[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] = ((corner >> a) & 1 ? I.Cells[a] : 0.0) - I.O[a];
+    }
+    nearest = std::min(nearest, vtkMath::Dot(I.Inverse[2], c));
+  }
+  if (nearest > this->SampleDistance && std::isfinite(nearest))
+  {
+    const double skip = std::floor(nearest / this->SampleDistance) * this->SampleDistance;
+    for (int a = 0; a < 3; ++a)
+    {
+      I.O[a] += skip * I.D[a];
+    }
+  }
   // The pixels whose rays can meet the box of the points: the tiles outside them are left
   // as the output was initialized (transparent), and each tile finds its own pixels' chords.
   const double boxLo[3] = { 0.0, 0.0, 0.0 };
@@ -1034,6 +1072,10 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   for (vtkIdType n : sampled)
   {
     this->NumberOfNonTransparentCells += n;
+  }
+  if (!this->GetAbortExecute())
+  {
+    this->WarnIfTransparent(rgba);
   }
   this->UpdateProgress(1.0);
   return 1;

@@ -51,15 +51,13 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkFloatArray* rgba = this->InitializeOutput(vtkImageData::GetData(outputVector));
   int dims[3];
-  vtkDataArray* scalars = this->PrepareFrame(input, inputVector, dims);
+  vtkDataArray* scalars = rgba ? this->PrepareFrame(input, inputVector, dims) : nullptr;
   if (!scalars)
   {
     return 1;
   }
-  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  if (!this->CheckSampleDistance(input, this->SampleDistance, this->MaximumSamplesPerRay))
   {
-    vtkErrorMacro(
-      "The sample distance must be positive and finite, got " << this->SampleDistance << ".");
     return 1;
   }
   if (!this->Table)
@@ -169,6 +167,7 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
         }
       }
     });
+  this->WarnIfTransparent(rgba);
   return 1;
 }
 
@@ -181,4 +180,5 @@ void vtkPreIntegrationRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ExactSegments: " << this->ExactSegments << "\n";
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
+  os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
 }

@@ -96,6 +96,16 @@ public:
   vtkGetMacro(OpacityThreshold, double);
   ///@}
 
+  ///@{
+  /**
+   * The most samples a ray may take across the volume's diagonal at the sample distance; a
+   * finer sample distance is an error (empty image) instead of a frame of hours. Initial value
+   * is 100000, as vtkPreIntegrationVolumeMapper's.
+   */
+  vtkSetClampMacro(MaximumSamplesPerRay, double, 1.0, 1e9);
+  vtkGetMacro(MaximumSamplesPerRay, double);
+  ///@}
+
   vtkMTimeType GetMTime() override;
 
 protected:
@@ -109,6 +119,7 @@ protected:
   bool ExactSegments = false;
   int Integration = TABLE_ORDER;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
+  double MaximumSamplesPerRay = 1e5;
 
 private:
   vtkPreIntegrationRayCaster(const vtkPreIntegrationRayCaster&) = delete;

@@ -6,6 +6,8 @@
 #include "vtkTimerLog.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
+#include <vtksys/SystemInformation.hxx>
+
 #include <algorithm>
 #include <cmath>
 #include <new>
@@ -55,16 +57,18 @@ vtkIdType vtkPreIntegrationTable::GetNumberOfEntries() const
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationTable::Update()
 {
-  if (!(this->SegmentLength > 0.0) || !std::isfinite(this->SegmentLength))
+  // Tables are integrated in float.
+  if (!(this->SegmentLength > 0.0) || !(this->SegmentLength <= 1e30))
   {
     vtkErrorMacro(
-      "The segment length must be positive and finite, got " << this->SegmentLength << ".");
+      "The segment length must be positive and at most 1e30, got " << this->SegmentLength << ".");
     return false;
   }
-  if (!(this->ScalarRange[1] > this->ScalarRange[0]) || !std::isfinite(this->ScalarRange[0]) ||
-    !std::isfinite(this->ScalarRange[1]))
+  if (!(this->ScalarRange[1] > this->ScalarRange[0]) ||
+    !std::isfinite(this->ScalarRange[1] - this->ScalarRange[0]))
   {
-    vtkErrorMacro("The scalar range must be finite and non-empty, got ["
+    vtkErrorMacro("The scalar range must be finite, non-empty and narrower than the largest "
+                  "double, got ["
       << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "].");
     return false;
   }
@@ -82,8 +86,16 @@ bool vtkPreIntegrationTable::Update()
   // The table (16 bytes per entry) and the build's scratch are the only large allocations:
   // when memory runs out, an error rather than an exception through the caller.
   const vtkIdType wanted = this->ComputeEntries ? entries : 0;
+  // Beyond physical memory the allocation may succeed by overcommit and the build be killed.
+  vtksys::SystemInformation system;
+  system.RunMemoryCheck();
+  const double memory = 1048576.0 * static_cast<double>(system.GetTotalPhysicalMemory()); // MiB
   try
   {
+    if (memory > 0.0 && static_cast<double>(wanted) * 4 * sizeof(float) > memory)
+    {
+      throw std::bad_alloc();
+    }
     this->Table->SetNumberOfTuples(wanted);
     if (this->Table->GetNumberOfTuples() != wanted)
     {

@@ -45,7 +45,8 @@ public:
 
   ///@{
   /**
-   * Length of a ray segment in world units; must be positive. Initial value is 1.0.
+   * Length of a ray segment in world units; must be positive and at most 1e30 (tables are
+   * integrated in float). Initial value is 1.0.
    */
   vtkSetMacro(SegmentLength, double);
   vtkGetMacro(SegmentLength, double);

@@ -15,6 +15,7 @@
 #include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkTimerLog.h"
+#include "vtkVolumeImageAlgorithm.h"
 #include "vtkVolumeReferenceIntegrator.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
@@ -274,21 +275,20 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   I.Candidates.clear();
   I.Table = nullptr;
   this->ChosenCandidate = -1;
-  if (!volume || !scalars || !table || (order != 1 && order != 2) || !(sampleDistance > 0.0) ||
-    scalars->GetNumberOfComponents() != 1)
+  if (!table || (order != 1 && order != 2) || !(sampleDistance > 0.0) ||
+    !std::isfinite(sampleDistance))
   {
-    vtkErrorMacro("The sizer needs a volume, its single-component point scalars, a table, "
-                  "order 1 or 2 and a positive sample distance.");
+    vtkErrorMacro("The sizer needs a table, order 1 or 2 and a positive, finite sample distance.");
+    return false;
+  }
+  const std::string why = vtkVolumeImageAlgorithm::CheckVolume(volume, scalars);
+  if (!why.empty())
+  {
+    vtkErrorMacro(<< why);
     return false;
   }
   int dims[3];
   volume->GetDimensions(dims);
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
-    scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
-  {
-    vtkErrorMacro("The volume needs at least 2 points along each axis and one scalar per point.");
-    return false;
-  }
   vtkVolumeTransferFunctionSampler* sampler = table->GetSampler();
   if (!sampler->Prepare())
   {

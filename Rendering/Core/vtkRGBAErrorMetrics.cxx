@@ -60,6 +60,26 @@ int vtkRGBAErrorMetrics::RequestInformation(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
+int vtkRGBAErrorMetrics::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector*)
+{
+  // Each image whole, whatever its size: images of different sizes are an error of
+  // RequestData's, not a pipeline error about extents.
+  for (int port = 0; port < 2; ++port)
+  {
+    vtkInformation* info = inputVector[port]->GetInformationObject(0);
+    if (info && info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+        info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
+        6);
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkRGBAErrorMetrics::RequestData(vtkInformation*,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)

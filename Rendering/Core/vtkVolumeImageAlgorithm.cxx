@@ -9,13 +9,20 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
+#include <vtksys/SystemInformation.hxx>
+
 #include <algorithm>
+#include <cmath>
+#include <new>
+#include <sstream>
 
 vtkCxxSetObjectMacro(vtkVolumeImageAlgorithm, VolumeProperty, vtkVolumeProperty);
 
@@ -120,15 +127,43 @@ int vtkVolumeImageAlgorithm::RequestUpdateExtent(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output, bool clear)
+vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output,
+  bool clear,
+  int extraFloats)
 {
   const int* size = this->RayModel->GetImageSize();
   const int width = std::max(size[0], 1), height = std::max(size[1], 1);
-  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+  const double bytes = static_cast<double>(width) * height * (4.0 + extraFloats) * sizeof(float);
+  // The allocation itself may succeed by overcommit and the first write kill the process.
+  vtksys::SystemInformation system;
+  system.RunMemoryCheck();
+  const double memory = 1048576.0 * static_cast<double>(system.GetTotalPhysicalMemory()); // MiB
   vtkNew<vtkFloatArray> rgba;
   rgba->SetName("RGBA");
   rgba->SetNumberOfComponents(4);
+  bool allocated = memory <= 0.0 || bytes < memory;
+  if (allocated)
+  {
+    try
+    {
+      allocated = rgba->Resize(static_cast<vtkIdType>(width) * height) != 0;
+    }
+    catch (const std::bad_alloc&)
+    {
+      allocated = false;
+    }
+  }
+  if (!allocated)
+  {
+    output->Initialize();
+    vtkErrorMacro("A " << width << " x " << height << " image needs "
+                       << std::ceil(bytes / 1048576.0)
+                       << " MiB, more than this machine can allocate ("
+                       << std::floor(memory / 1048576.0) << " MiB of memory).");
+    return nullptr;
+  }
   rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
   if (clear)
   {
     rgba->FillValue(0.0f);
@@ -138,30 +173,95 @@ vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output, b
 }
 
 //------------------------------------------------------------------------------
+std::string vtkVolumeImageAlgorithm::CheckVolume(vtkImageData* input, vtkDataArray* scalars)
+{
+  std::ostringstream why;
+  if (!input || !scalars)
+  {
+    return "The input has no point scalars to render.";
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    why << "Only single-component scalars can be rendered; array '"
+        << (scalars->GetName() ? scalars->GetName() : "") << "' has "
+        << scalars->GetNumberOfComponents() << " components.";
+    return why.str();
+  }
+  int dims[3];
+  input->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    why << "The volume needs at least 2 points along each axis to enclose a cell; it has "
+        << dims[0] << " x " << dims[1] << " x " << dims[2] << ".";
+    return why.str();
+  }
+  const vtkIdType points = static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2];
+  if (scalars->GetNumberOfTuples() != points)
+  {
+    why << "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "") << "' has "
+        << scalars->GetNumberOfTuples() << " values for the " << dims[0] << " x " << dims[1]
+        << " x " << dims[2] << " = " << points
+        << " points of the grid; a truncated or mismatched file?";
+    return why.str();
+  }
+  const double* origin = input->GetOrigin();
+  const double* spacing = input->GetSpacing();
+  const double* direction = input->GetDirectionMatrix()->GetData();
+  const bool finite = std::all_of(origin, origin + 3, [](double x) { return std::isfinite(x); }) &&
+    std::all_of(spacing, spacing + 3, [](double x) { return std::isfinite(x) && x != 0.0; }) &&
+    std::all_of(direction, direction + 9, [](double x) { return std::isfinite(x); });
+  const double determinant = vtkMatrix3x3::Determinant(direction);
+  double bounds[6];
+  input->GetBounds(bounds);
+  const bool bounded = std::all_of(bounds, bounds + 6, [](double x) { return std::isfinite(x); }) &&
+    std::isfinite(bounds[1] - bounds[0]) && std::isfinite(bounds[3] - bounds[2]) &&
+    std::isfinite(bounds[5] - bounds[4]);
+  const double* toIndex = input->GetPhysicalToIndexMatrix()->GetData();
+  if (!finite || !(std::abs(determinant) > 1e-12) || !bounded ||
+    !std::all_of(toIndex, toIndex + 16, [](double x) { return std::isfinite(x); }))
+  {
+    why << "The volume's geometry cannot be rendered: origin (" << origin[0] << ", " << origin[1]
+        << ", " << origin[2] << "), spacing (" << spacing[0] << ", " << spacing[1] << ", "
+        << spacing[2] << "), direction matrix determinant " << determinant
+        << "; they must be finite, the spacing non-zero, the direction matrix invertible and the "
+           "bounds within double range.";
+    return why.str();
+  }
+  double range[2], finiteRange[2];
+  scalars->GetRange(range, 0);
+  scalars->GetFiniteRange(finiteRange, 0);
+  if (!(finiteRange[0] <= finiteRange[1]))
+  {
+    return "The scalars hold no finite value (all NaN or infinite): nothing can be drawn.";
+  }
+  if (range[0] != finiteRange[0] || range[1] != finiteRange[1])
+  {
+    return "The scalars hold infinite values; replace them by NaN (drawn transparent) or by a "
+           "finite fill value.";
+  }
+  if (!std::isfinite(finiteRange[1] - finiteRange[0]))
+  {
+    why << "The scalar range [" << finiteRange[0] << ", " << finiteRange[1]
+        << "] is wider than the largest double; rescale the values.";
+    return why.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 vtkDataArray* vtkVolumeImageAlgorithm::PrepareFrame(vtkImageData* input,
   vtkInformationVector** inputVector,
   int dims[3])
 {
+  this->FrameWarned = false;
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
-  if (!input || !scalars)
+  const std::string why = CheckVolume(input, scalars);
+  if (!why.empty())
   {
-    vtkErrorMacro("The input has no point scalars to render.");
-    return nullptr;
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    vtkErrorMacro("Only single-component scalars can be rendered; array '"
-      << (scalars->GetName() ? scalars->GetName() : "") << "' has "
-      << scalars->GetNumberOfComponents() << " components.");
+    vtkErrorMacro(<< why);
     return nullptr;
   }
   input->GetDimensions(dims);
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
-  {
-    vtkErrorMacro("The volume needs at least 2 points along each axis to enclose a cell; it has "
-      << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
-    return nullptr;
-  }
   if (!this->VolumeProperty)
   {
     vtkErrorMacro("No volume property (transfer functions) was given.");
@@ -172,7 +272,63 @@ vtkDataArray* vtkVolumeImageAlgorithm::PrepareFrame(vtkImageData* input,
   {
     return nullptr;
   }
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  if (!(this->Sampler->GetMaximumOpacity(range[0], range[1]) > 0.0))
+  {
+    vtkWarningMacro("The scalar opacity is zero over the data range ["
+      << range[0] << ", " << range[1] << "]: the image is transparent.");
+    this->FrameWarned = true;
+  }
   return scalars;
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeImageAlgorithm::CheckSampleDistance(vtkImageData* input,
+  double step,
+  double maximumSamples)
+{
+  if (!(step > 0.0) || !std::isfinite(step))
+  {
+    vtkErrorMacro("The sample distance must be positive and finite, got " << step << ".");
+    return false;
+  }
+  const double diagonal = input->GetLength(); // of the bounds
+  if (step > diagonal)
+  {
+    vtkErrorMacro("The sample distance " << step << " exceeds the volume's diagonal (" << diagonal
+                                         << "): rays would step over the volume.");
+    return false;
+  }
+  const double samples = diagonal / step;
+  if (!(samples <= maximumSamples))
+  {
+    vtkErrorMacro("The sample distance " << step << " takes " << samples
+                                         << " samples along the volume's diagonal, more than "
+                                         << maximumSamples << " (MaximumSamplesPerRay).");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeImageAlgorithm::WarnIfTransparent(vtkFloatArray* rgba)
+{
+  const float* p = rgba->GetPointer(0);
+  const vtkIdType n = rgba->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    if (p[4 * i + 3] > 0.0f)
+    {
+      return;
+    }
+  }
+  if (!this->FrameWarned)
+  {
+    vtkWarningMacro("The image is transparent: no pixel ray meets a visible part of the volume. "
+                    "Check the camera (does it frame the volume?), the opacity transfer function "
+                    "and the opacity unit distance.");
+  }
 }
 
 //------------------------------------------------------------------------------

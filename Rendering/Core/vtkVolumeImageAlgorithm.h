@@ -16,6 +16,8 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkImageAlgorithm.h"
 
+#include <string> // For CheckVolume
+
 class vtkCamera;
 class vtkCameraRayModel;
 class vtkDataArray;
@@ -56,6 +58,16 @@ public:
 
   vtkMTimeType GetMTime() override;
 
+  /**
+   * Why scalars cannot be rendered as the point scalars of input, or an empty string when they
+   * can: a missing input or array, several components, fewer than 2 points along an axis, a
+   * tuple count other than the number of points, an origin, spacing or direction matrix that
+   * is not finite or is singular, bounds beyond double range, scalars with no finite value,
+   * with infinite values or with a range wider than the largest double. Every hovr renderer
+   * checks its input with it before reading the scalars.
+   */
+  static std::string CheckVolume(vtkImageData* input, vtkDataArray* scalars);
+
 protected:
   vtkVolumeImageAlgorithm();
   ~vtkVolumeImageAlgorithm() override;
@@ -67,16 +79,34 @@ protected:
   /**
    * Size the output to the image size with a transparent "RGBA" array, and return that array.
    * With clear false its values are left uninitialized, for the caller to write every one.
+   * extraFloats more floats per pixel are counted in the memory the image needs: an image that
+   * would not fit in the machine's physical memory, or whose allocation fails, is an error
+   * and an empty output (no points), and nullptr is returned.
    */
-  vtkFloatArray* InitializeOutput(vtkImageData* output, bool clear = true);
+  vtkFloatArray* InitializeOutput(vtkImageData* output, bool clear = true, int extraFloats = 0);
 
   /**
    * The input's scalars to render, after checking them and preparing the sampler and the
-   * rays: nullptr after an error (no input or scalars, several components, fewer than 2
-   * points along an axis, no volume property, bad transfer functions or camera). dims gets
-   * the grid's point dimensions.
+   * rays: nullptr after an error (CheckVolume(), no volume property, bad transfer functions
+   * or camera). dims gets the grid's point dimensions.
    */
   vtkDataArray* PrepareFrame(vtkImageData* input, vtkInformationVector** inputVector, int dims[3]);
+
+  /**
+   * Whether step (world units) is positive, at most the diagonal of input's bounds, and takes
+   * at most maximumSamples samples along it; an error otherwise, rather than a frame of hours
+   * or a volume stepped over.
+   */
+  bool CheckSampleDistance(vtkImageData* input, double step, double maximumSamples);
+
+  /**
+   * A warning when every pixel of rgba is transparent and this frame has warned of nothing
+   * yet, so that an empty image never comes without a message.
+   */
+  void WarnIfTransparent(vtkFloatArray* rgba);
+
+  // Whether this frame has warned already (PrepareFrame resets it).
+  bool FrameWarned = false;
 
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCameraRayModel* RayModel;

@@ -429,12 +429,16 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   this->NumberOfSamples = 0;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  vtkFloatArray* rgba = this->InitializeOutput(output);
   const int* size = this->RayModel->GetImageSize();
   const int width = std::max(size[0], 1), height = std::max(size[1], 1);
   const bool iso = this->BlendMode == ISOSURFACE_BLEND;
   const bool projection =
     this->BlendMode == MAXIMUM_INTENSITY_BLEND || this->BlendMode == MINIMUM_INTENSITY_BLEND;
+  vtkFloatArray* rgba = this->InitializeOutput(output, true, iso ? 2 : projection ? 1 : 0);
+  if (!rgba)
+  {
+    return 1;
+  }
   vtkNew<vtkFloatArray> extra;
   if (iso || projection)
   {
@@ -552,6 +556,10 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   for (vtkIdType s : caster.Samples)
   {
     this->NumberOfSamples += s;
+  }
+  if (!this->GetAbortExecute())
+  {
+    this->WarnIfTransparent(rgba);
   }
   return 1;
 }

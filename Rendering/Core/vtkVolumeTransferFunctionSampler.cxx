@@ -214,10 +214,11 @@ bool vtkVolumeTransferFunctionSampler::Prepare()
     vtkErrorMacro("No scalar opacity function (or one without nodes) was given.");
     return false;
   }
-  if (!(this->ScalarOpacityUnitDistance > 0.0) || !std::isfinite(this->ScalarOpacityUnitDistance))
+  // Extinctions of 1/unit beyond float range make the float tables' inf * 0 = NaN.
+  if (!(this->ScalarOpacityUnitDistance >= 1e-30 && this->ScalarOpacityUnitDistance <= 1e30))
   {
-    vtkErrorMacro("The scalar opacity unit distance must be positive and finite, got "
-      << this->ScalarOpacityUnitDistance << ".");
+    vtkErrorMacro("The scalar opacity unit distance must lie in [1e-30, 1e30] (world units), got "
+      << this->ScalarOpacityUnitDistance << "; rescale the volume's spacing.");
     return false;
   }
   vtkInternals& in = *this->Internals;

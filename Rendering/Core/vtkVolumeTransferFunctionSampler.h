@@ -67,7 +67,8 @@ public:
 
   ///@{
   /**
-   * Distance in world units over which ScalarOpacity holds; must be positive.
+   * Distance in world units over which ScalarOpacity holds; must lie in [1e-30, 1e30] (an
+   * error in Prepare() otherwise), where the extinction stays within float range.
    * Initial value is 1.0.
    */
   vtkSetMacro(ScalarOpacityUnitDistance, double);

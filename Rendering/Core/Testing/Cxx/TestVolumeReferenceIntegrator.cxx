@@ -898,6 +898,8 @@ int TestVolumeReferenceIntegrator(int, char*[])
         std::to_string(touch) + ", depth " + std::to_string(depth) + ")");
     const double miss = run(2.0, depth);
     check(miss == 0.0 && std::isnan(depth), "a miss either way: spread 0, depth NaN");
+    check(messages.Take().find("The image is transparent") != std::string::npos,
+      "an image without a hit comes with a warning");
     spread->SetIsoPerturbation(0.0);
     check(run(1.0, depth) == 0.0, "IsoPerturbation 0 turns the measure off");
   }

@@ -287,6 +287,9 @@ int TestExtensibleGPUVolumeRayCastMapper(int, char*[])
   check(ownKeys->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
       vtkDataObject::FIELD_ASSOCIATION()->Get(ownKeys) == 42,
     "other keys survive");
+  // The pass is the test's own: taken off again, so that no information object keeps it.
+  vtkOpenGLRenderPass::RenderPasses()->Remove(ownKeys, pass);
+  volume->SetPropertyKeys(nullptr);
   hovrTest::ExpectQuiet(check, errors, "the whole test");
 
   return check.Result("TestExtensibleGPUVolumeRayCastMapper");

@@ -172,7 +172,7 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
       "vtkVolumeProperty keeps the unit distance as given");
     const std::string what = "unit distance " + std::to_string(unitDistance);
     CheckNothingDrawn(check, scene, "cannot be pre-integrated", what);
-    check(messages.TakeError("unit distance must be positive"),
+    check(messages.TakeError("unit distance must lie in"),
       what + ": the sampler names the unit distance");
   }
   property->SetScalarOpacityUnitDistance(0.05);
