@@ -66,6 +66,14 @@ bool vtkCameraRayModel::Prepare()
     vtkErrorMacro("The camera position equals its focal point.");
     return false;
   }
+  if (distance <= 1.000001e-20)
+  {
+    // vtkCamera moves a focal point nearer than this away, which tilts its view up.
+    vtkErrorMacro("The camera is " << distance
+                                   << " from its focal point, at or below vtkCamera's smallest "
+                                      "distance (1e-20): scale the volume's spacing up.");
+    return false;
+  }
   if (!std::isfinite(distance))
   {
     vtkErrorMacro("The camera's distance to its focal point overflows double precision.");

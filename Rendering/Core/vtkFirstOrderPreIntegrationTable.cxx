@@ -39,8 +39,7 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
   }
 
   float* table = this->Table->GetPointer(0);
-  vtkSMPTools::For(0,
-    n,
+  this->ForInParts(n,
     [&](vtkIdType jBegin, vtkIdType jEnd)
     {
       for (vtkIdType j = jBegin; j < jEnd; ++j) // back scalar: rows

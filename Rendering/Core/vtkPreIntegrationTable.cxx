@@ -1,8 +1,10 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationTable.h"
 
+#include "vtkCommand.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
+#include "vtkSMPTools.h"
 #include "vtkTimerLog.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
@@ -101,7 +103,14 @@ bool vtkPreIntegrationTable::Update()
     {
       throw std::bad_alloc(); // vtkFloatArray reports the failure and keeps its old size
     }
+    this->AbortBuild = this->BuildAborted = false;
     this->BuildTable();
+    if (this->BuildAborted)
+    {
+      this->Table->Initialize();
+      vtkErrorMacro("The build of the pre-integration table was aborted (AbortBuild).");
+      return false;
+    }
     this->BuildEmptyRuns();
   }
   catch (const std::bad_alloc&)
@@ -188,4 +197,23 @@ void vtkPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TableSize: " << this->TableSize << "\n";
   os << indent << "BuildCount: " << this->BuildCount << "\n";
   os << indent << "LastBuildTime: " << this->LastBuildTime << "\n";
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTable::ForInParts(vtkIdType n,
+  const std::function<void(vtkIdType, vtkIdType)>& body)
+{
+  const int parts = static_cast<int>(std::min<vtkIdType>(n, 16));
+  for (int part = 0; part < parts; ++part)
+  {
+    if (this->AbortBuild)
+    {
+      this->BuildAborted = true;
+      return false;
+    }
+    vtkSMPTools::For(n * part / parts, n * (part + 1) / parts, body);
+    double progress = static_cast<double>(part + 1) / parts;
+    this->InvokeEvent(vtkCommand::ProgressEvent, &progress);
+  }
+  return true;
 }

@@ -21,6 +21,8 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkObject.h"
 
+#include <functional> // For ForInParts
+
 class vtkDataArray;
 class vtkFloatArray;
 class vtkVolumeProperty;
@@ -117,6 +119,18 @@ public:
 
   ///@{
   /**
+   * Set during a build (from a ProgressEvent observer, or another thread) to stop it: Update()
+   * then reports an error, leaves the table empty and returns false; the flag is cleared when
+   * the next build starts. Builds fire ProgressEvent (a double in [0, 1]) as they go.
+   * Initial value is false.
+   */
+  vtkSetMacro(AbortBuild, bool);
+  vtkGetMacro(AbortBuild, bool);
+  vtkBooleanMacro(AbortBuild, bool);
+  ///@}
+
+  ///@{
+  /**
    * Statistics: rebuilds so far, wall time of the last build in seconds, table size in bytes.
    */
   vtkGetMacro(BuildCount, int);
@@ -153,6 +167,14 @@ protected:
 
   // Fills EmptyRuns from the prepared sampler.
   void BuildEmptyRuns();
+
+  // Runs body(begin, end) over [0, n) in parts with vtkSMPTools, firing ProgressEvent after
+  // each; false (and the rest skipped) once AbortBuild is set.
+  bool ForInParts(vtkIdType n, const std::function<void(vtkIdType, vtkIdType)>& body);
+
+  // Whether the last BuildTable() stopped on AbortBuild.
+  bool BuildAborted = false;
+  bool AbortBuild = false;
 
   // Scalar margin around each spacing within which opacity makes it non-empty: a table that
   // filters the transfer function spreads opacity that far.

@@ -200,8 +200,7 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   const int nc = this->TableSize, nb = this->ChordSize, nd = this->DeviationSize;
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
-  vtkSMPTools::For(0,
-    static_cast<vtkIdType>(nd) * nc,
+  this->ForInParts(static_cast<vtkIdType>(nd) * nc,
     [&](vtkIdType begin, vtkIdType end)
     {
       std::vector<float> steps;

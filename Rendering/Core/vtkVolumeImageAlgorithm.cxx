@@ -173,6 +173,36 @@ vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output,
 }
 
 //------------------------------------------------------------------------------
+std::string vtkVolumeImageAlgorithm::CheckGeometry(vtkImageData* input)
+{
+  std::ostringstream why;
+  const double* origin = input->GetOrigin();
+  const double* spacing = input->GetSpacing();
+  const double* direction = input->GetDirectionMatrix()->GetData();
+  const bool finite = std::all_of(origin, origin + 3, [](double x) { return std::isfinite(x); }) &&
+    std::all_of(spacing, spacing + 3, [](double x) { return std::isfinite(x) && x != 0.0; }) &&
+    std::all_of(direction, direction + 9, [](double x) { return std::isfinite(x); });
+  const double determinant = vtkMatrix3x3::Determinant(direction);
+  double bounds[6];
+  input->GetBounds(bounds);
+  const bool bounded = std::all_of(bounds, bounds + 6, [](double x) { return std::isfinite(x); }) &&
+    std::isfinite(bounds[1] - bounds[0]) && std::isfinite(bounds[3] - bounds[2]) &&
+    std::isfinite(bounds[5] - bounds[4]);
+  const double* toIndex = input->GetPhysicalToIndexMatrix()->GetData();
+  if (!finite || !(std::abs(determinant) > 1e-12) || !bounded ||
+    !std::all_of(toIndex, toIndex + 16, [](double x) { return std::isfinite(x); }))
+  {
+    why << "The volume's geometry cannot be rendered: origin (" << origin[0] << ", " << origin[1]
+        << ", " << origin[2] << "), spacing (" << spacing[0] << ", " << spacing[1] << ", "
+        << spacing[2] << "), direction matrix determinant " << determinant
+        << "; they must be finite, the spacing non-zero, the direction matrix invertible and the "
+           "bounds within double range.";
+    return why.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 std::string vtkVolumeImageAlgorithm::CheckVolume(vtkImageData* input, vtkDataArray* scalars)
 {
   std::ostringstream why;
@@ -204,28 +234,10 @@ std::string vtkVolumeImageAlgorithm::CheckVolume(vtkImageData* input, vtkDataArr
         << " points of the grid; a truncated or mismatched file?";
     return why.str();
   }
-  const double* origin = input->GetOrigin();
-  const double* spacing = input->GetSpacing();
-  const double* direction = input->GetDirectionMatrix()->GetData();
-  const bool finite = std::all_of(origin, origin + 3, [](double x) { return std::isfinite(x); }) &&
-    std::all_of(spacing, spacing + 3, [](double x) { return std::isfinite(x) && x != 0.0; }) &&
-    std::all_of(direction, direction + 9, [](double x) { return std::isfinite(x); });
-  const double determinant = vtkMatrix3x3::Determinant(direction);
-  double bounds[6];
-  input->GetBounds(bounds);
-  const bool bounded = std::all_of(bounds, bounds + 6, [](double x) { return std::isfinite(x); }) &&
-    std::isfinite(bounds[1] - bounds[0]) && std::isfinite(bounds[3] - bounds[2]) &&
-    std::isfinite(bounds[5] - bounds[4]);
-  const double* toIndex = input->GetPhysicalToIndexMatrix()->GetData();
-  if (!finite || !(std::abs(determinant) > 1e-12) || !bounded ||
-    !std::all_of(toIndex, toIndex + 16, [](double x) { return std::isfinite(x); }))
+  const std::string geometry = CheckGeometry(input);
+  if (!geometry.empty())
   {
-    why << "The volume's geometry cannot be rendered: origin (" << origin[0] << ", " << origin[1]
-        << ", " << origin[2] << "), spacing (" << spacing[0] << ", " << spacing[1] << ", "
-        << spacing[2] << "), direction matrix determinant " << determinant
-        << "; they must be finite, the spacing non-zero, the direction matrix invertible and the "
-           "bounds within double range.";
-    return why.str();
+    return geometry;
   }
   double range[2], finiteRange[2];
   scalars->GetRange(range, 0);

@@ -68,6 +68,12 @@ public:
    */
   static std::string CheckVolume(vtkImageData* input, vtkDataArray* scalars);
 
+  /**
+   * The part of CheckVolume() about the grid alone: why input's origin, spacing, direction
+   * matrix or bounds cannot be rendered, or an empty string.
+   */
+  static std::string CheckGeometry(vtkImageData* input);
+
 protected:
   vtkVolumeImageAlgorithm();
   ~vtkVolumeImageAlgorithm() override;

@@ -8,6 +8,7 @@
 #include "vtkImageData.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
@@ -389,6 +390,13 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   {
     return plan;
   }
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  if (!(range[0] <= range[1]))
+  {
+    vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
+    return DrawNothing;
+  }
   if (!IsAnalyticBlend(this->BlendMode))
   {
     this->WarnFallbackOnce(
@@ -441,14 +449,42 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
                     "volume property (GetIsoSurfaceValues()->SetValue(0, v)); not drawing.");
       return DrawNothing;
     }
+    bool inside = false;
+    for (int k = 0; k < values->GetNumberOfContours(); ++k)
+    {
+      inside = inside || (values->GetValue(k) >= range[0] && values->GetValue(k) <= range[1]);
+    }
+    std::ostringstream message;
+    message << "No isosurface value lies in the data range [" << range[0] << ", " << range[1]
+            << "]: the image is empty.";
+    inside ? this->ClearEmptyWarning() : this->WarnEmptyOnce(message.str());
   }
   else
   {
-    double range[2];
-    scalars->GetFiniteRange(range, 0);
     const double extreme =
       this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND ? range[1] : range[0];
     this->RawExtreme = static_cast<float>((extreme - shift) / scale);
+    // The projection draws the opacity of each ray's extremum, all within the data range.
+    vtkPiecewiseFunction* opacity = property->GetScalarOpacity();
+    double most = 0.0;
+    const int nodes = opacity ? opacity->GetSize() : 0;
+    for (int k = 0; k < nodes; ++k)
+    {
+      double node[4];
+      opacity->GetNodeValue(k, node);
+      if (node[0] > range[0] && node[0] < range[1])
+      {
+        most = std::max(most, node[1]);
+      }
+    }
+    if (opacity)
+    {
+      most = std::max({ most, opacity->GetValue(range[0]), opacity->GetValue(range[1]) });
+    }
+    std::ostringstream message;
+    message << "The scalar opacity is zero over the data range [" << range[0] << ", " << range[1]
+            << "]: the image is transparent.";
+    most > 0.0 ? this->ClearEmptyWarning() : this->WarnEmptyOnce(message.str());
   }
 
   if (this->Method == ANALYTIC && this->BlockSize > 0 &&

@@ -11,6 +11,11 @@
 #include "vtkPointData.h"
 #include "vtkShaderProgram.h"
 #include "vtkVolume.h"
+#include "vtkVolumeImageAlgorithm.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
 
 //------------------------------------------------------------------------------
 // The hook: a render pass that is never rendered as a pass. The ray caster calls it while it
@@ -253,7 +258,43 @@ vtkDataArray* vtkExtensibleGPUVolumeRayCastMapper::GetFrameScalars(int dims[3],
     plan = DrawNothing;
     return nullptr;
   }
+  // VTK's texture upload reads as many values as the grid has, whatever the array holds.
+  const vtkIdType expected = cellFlag ? input->GetNumberOfCells() : input->GetNumberOfPoints();
+  std::string why = vtkVolumeImageAlgorithm::CheckGeometry(input);
+  if (why.empty() && scalars->GetNumberOfTuples() != expected)
+  {
+    why = "The scalar array has " + std::to_string(scalars->GetNumberOfTuples()) + " values for " +
+      std::to_string(expected) + (cellFlag ? " cells" : " points") +
+      " of the grid; a truncated or mismatched file?";
+  }
+  for (int c = 0; why.empty() && c < scalars->GetNumberOfComponents(); ++c)
+  {
+    // VTK maps the texture through the range, which an infinite value makes infinite.
+    double range[2], finite[2];
+    scalars->GetRange(range, c);
+    scalars->GetFiniteRange(finite, c);
+    if (range[0] != finite[0] || range[1] != finite[1])
+    {
+      why = "The scalars hold infinite values; replace them by NaN or a finite fill value.";
+    }
+  }
+  if (!why.empty())
+  {
+    vtkErrorMacro(<< why << " Not drawing.");
+    plan = DrawNothing;
+    return nullptr;
+  }
   return scalars;
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::WarnEmptyOnce(const std::string& message)
+{
+  if (this->LastEmptyWarning != message)
+  {
+    vtkWarningMacro(<< message);
+    this->LastEmptyWarning = message;
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -264,4 +305,18 @@ void vtkExtensibleGPUVolumeRayCastMapper::WarnFallbackOnce(const char* reason)
     vtkWarningMacro(<< reason << "; drawing with VTK's stock shader.");
     this->LastFallbackWarning = reason;
   }
+}
+
+//------------------------------------------------------------------------------
+double* vtkExtensibleGPUVolumeRayCastMapper::GetBounds()
+{
+  double* bounds = this->Superclass::GetBounds();
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
+  if (input && !std::all_of(bounds, bounds + 6, [](double b) { return std::isfinite(b); }) &&
+    input->GetMTime() != this->ReportedBoundsTime)
+  {
+    this->ReportedBoundsTime = input->GetMTime();
+    vtkErrorMacro(<< vtkVolumeImageAlgorithm::CheckGeometry(input) << " Not drawing.");
+  }
+  return bounds;
 }

@@ -81,6 +81,13 @@ public:
    */
   const std::string& GetFragmentShaderSource() const { return this->FragmentShaderSource; }
 
+  /**
+   * The input's bounds; an error when they are not finite (a NaN origin, an infinite
+   * spacing), since the renderer then culls the volume and never asks for a frame.
+   */
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  using vtkAbstractMapper3D::GetBounds;
+
 protected:
   vtkExtensibleGPUVolumeRayCastMapper();
   ~vtkExtensibleGPUVolumeRayCastMapper() override;
@@ -121,6 +128,16 @@ protected:
   void ClearFallbackWarning() { this->LastFallbackWarning.clear(); }
   ///@}
 
+  ///@{
+  /**
+   * Warn that this frame's image is empty for a reason the mapper can tell (a transparent
+   * transfer function over the data, no isovalue in the data), once per distinct message;
+   * clear when a frame has no such reason. An empty image never comes without a message.
+   */
+  void WarnEmptyOnce(const std::string& message);
+  void ClearEmptyWarning() { this->LastEmptyWarning.clear(); }
+  ///@}
+
   /**
    * Scalars for VTK to upload as the volume texture instead of the input's own, from this
    * frame's PrepareExtension() on (nullptr, the initial value: the input's own). They must
@@ -144,8 +161,10 @@ protected:
 
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
+  vtkMTimeType ReportedBoundsTime = 0; // the input time whose bounds GetBounds reported
   std::string FragmentShaderSource;
   std::string LastFallbackWarning;
+  std::string LastEmptyWarning;
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

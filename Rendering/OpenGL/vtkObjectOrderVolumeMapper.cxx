@@ -17,7 +17,11 @@
 #include "vtkRenderer.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
+#include "vtkVolumeImageAlgorithm.h"
 #include "vtk_glew.h"
+
+#include <algorithm>
+#include <cmath>
 
 vtkStandardNewMacro(vtkObjectOrderVolumeMapper);
 
@@ -270,4 +274,18 @@ void vtkObjectOrderVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastFrameFellBack: " << this->LastFrameFellBack << "\n";
   os << indent << "Caster:\n";
   this->Caster->PrintSelf(os, indent.GetNextIndent());
+}
+
+//------------------------------------------------------------------------------
+double* vtkObjectOrderVolumeMapper::GetBounds()
+{
+  double* bounds = this->Superclass::GetBounds();
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
+  if (input && !std::all_of(bounds, bounds + 6, [](double b) { return std::isfinite(b); }) &&
+    input->GetMTime() != this->ReportedBoundsTime)
+  {
+    this->ReportedBoundsTime = input->GetMTime();
+    vtkErrorMacro(<< vtkVolumeImageAlgorithm::CheckGeometry(input) << " Not drawing.");
+  }
+  return bounds;
 }

@@ -64,6 +64,13 @@ public:
   vtkGetMacro(LastFrameFellBack, bool);
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
+
+  /**
+   * The input's bounds; an error when they are not finite (a NaN origin, an infinite
+   * spacing), since the renderer then culls the volume and never asks for a frame.
+   */
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  using vtkAbstractMapper3D::GetBounds;
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
 protected:
@@ -88,6 +95,7 @@ protected:
   // The scalars (and their modification time) the caster last ran out of memory for.
   vtkDataArray* OutOfMemoryScalars = nullptr; // not referenced: only compared
   vtkMTimeType OutOfMemoryTime = 0;
+  vtkMTimeType ReportedBoundsTime = 0; // the input time whose bounds GetBounds reported
   vtkObjectOrderRayCaster* Caster;
   vtkTextureObject* Texture;
   vtkFixedPointVolumeRayCastMapper* Fallback;

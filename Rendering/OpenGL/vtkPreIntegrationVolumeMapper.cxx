@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <sstream>
 #include <string>
 
 vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
@@ -237,6 +238,17 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     vtkErrorMacro("The transfer functions cannot be pre-integrated; not drawing.");
     return DrawNothing;
+  }
+  if (!(table->GetSampler()->GetMaximumOpacity(range[0], range[1]) > 0.0))
+  {
+    std::ostringstream message;
+    message << "The scalar opacity is zero over the data range [" << range[0] << ", " << range[1]
+            << "]: the image is transparent.";
+    this->WarnEmptyOnce(message.str());
+  }
+  else
+  {
+    this->ClearEmptyWarning();
   }
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   if (!this->SizeTable(context, scalars, cellFlag, range))

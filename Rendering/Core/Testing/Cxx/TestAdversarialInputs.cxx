@@ -674,6 +674,15 @@ void SettingCases()
     Case("image 100000x100000", s, ERROR, { REFERENCE, OBJECT_ORDER, TWIN_FIRST });
   }
   {
+    // Steps the walker's float positions cannot resolve, though few enough samples.
+    Setup s = Standard(Blobs());
+    s.Step = 1e-7;
+    s.DefaultStep = false;
+    s.Adjust = [](vtkVolumeImageAlgorithm* a)
+    { static_cast<vtkObjectOrderRayCaster*>(a)->SetMaximumSamplesPerRay(1e9); };
+    Case("step 1e-7 voxel, 1e9 samples allowed", s, ERROR, { OBJECT_ORDER });
+  }
+  {
     // The object-order caster's placement matrix.
     for (double value : { 0.0, NaN })
     {
@@ -800,6 +809,53 @@ void OtherCases()
       chosen ? "chosen" : "error: " + Message(said.Text),
       0.0,
       !chosen && said.Errors > 0);
+  }
+  {
+    // The caster's helpers report through the caster's observers.
+    vtkNew<vtkObjectOrderRayCaster> caster;
+    Messages said;
+    Listen(caster, &said);
+    const int dims[3] = { 8, 8, 8 };
+    caster->GetOctree()->Build(nullptr, dims);
+    Record("octree error", "objectorder", "error: " + Message(said.Text), 0.0, said.Errors == 1);
+  }
+  for (int order : { 1, 2 })
+  {
+    // A build stopped from its progress events: an error and an empty table; the next builds.
+    vtkSmartPointer<vtkPreIntegrationTable> table;
+    if (order == 1)
+    {
+      table = vtkSmartPointer<vtkFirstOrderPreIntegrationTable>::New();
+    }
+    else
+    {
+      table = vtkSmartPointer<vtkSecondOrderPreIntegrationTable>::New();
+    }
+    table->SetVolumeProperty(property);
+    table->SetScalarRange(0.0, 1.0);
+    table->SetTableSize(128);
+    Messages said;
+    Listen(table, &said);
+    int events = 0;
+    vtkNew<vtkCallbackCommand> abort;
+    abort->SetClientData(&events);
+    abort->SetCallback(
+      [](vtkObject* caller, unsigned long, void* client, void*)
+      {
+        ++*static_cast<int*>(client);
+        static_cast<vtkPreIntegrationTable*>(caller)->AbortBuildOn();
+      });
+    const unsigned long tag = table->AddObserver(vtkCommand::ProgressEvent, abort);
+    const bool aborted = !table->Update();
+    table->RemoveObserver(tag);
+    table->Modified();
+    const bool rebuilt = table->Update();
+    Record("build aborted from a progress event",
+      order == 1 ? "table-1" : "table-2",
+      "error: " + Message(said.Text),
+      0.0,
+      aborted && events == 1 && said.Errors == 1 && rebuilt &&
+        table->GetTable()->GetNumberOfTuples() == table->GetNumberOfEntries());
   }
   {
     vtkNew<vtkMinMaxOctree> octree;
