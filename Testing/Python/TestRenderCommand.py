@@ -162,6 +162,10 @@ small_raw = os.path.join(tmp, "small.raw")
 numpy.zeros(10, numpy.uint8).tofile(small_raw)
 nan_raw = os.path.join(tmp, "allnan.raw")
 numpy.full(4 * 4 * 4, numpy.nan, numpy.float32).tofile(nan_raw)
+inf_raw = os.path.join(tmp, "inf.raw")
+inf_values = numpy.linspace(0.0, 1.0, 4 * 4 * 4, dtype=numpy.float32)
+inf_values[5] = numpy.inf
+inf_values.tofile(inf_raw)
 missing = os.path.join(tmp, "does-not-exist.vti")
 good = ["--tf", TF, "--size", 16, 16]
 cases = [
@@ -193,6 +197,9 @@ cases = [
      + good, "raw input only"),
     ("all-NaN volume", ["--input", nan_raw, "--dims", 4, 4, 4, "--type", "float32"] + good,
      "NaN"),
+    # VTK's own mappers would draw it without a word: checked for every method.
+    ("infinite values, stock method", ["--input", inf_raw, "--dims", 4, 4, 4, "--type",
+                                       "float32", "--method", "stock"] + good, "infinite"),
     ("step too small for any ray caster", ["--input", quadrant_vti, "--tf", TF, "--step",
                                            1e-9], "samples along the volume's diagonal"),
     ("step too small, CPU method", ["--input", quadrant_vti, "--tf", TF, "--step", 1e-9,

@@ -218,6 +218,12 @@ def check_volume(image):
     if nan_count:
         warnings.append("the volume holds %d NaN values; they are rendered transparent"
                         % nan_count)
+    # What every hovr renderer checks (tuple count, geometry, infinite values, range), here
+    # for the stock methods too, which VTK's mappers would draw wrong without a word.
+    from .hovrRenderingCore import vtkVolumeImageAlgorithm
+    why = vtkVolumeImageAlgorithm.CheckVolume(image, scalars)
+    if why:
+        raise HovrError(why[0].lower() + why[1:].rstrip("."))
     return warnings
 
 
