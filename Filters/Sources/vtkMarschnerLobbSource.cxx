@@ -10,6 +10,8 @@
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
+#include <vtksys/SystemInformation.hxx>
+
 #include <algorithm>
 #include <cmath>
 
@@ -65,6 +67,21 @@ int vtkMarschnerLobbSource::RequestInformation(vtkInformation*,
 void vtkMarschnerLobbSource::ExecuteDataWithInformation(vtkDataObject* outputObject,
   vtkInformation* outInfo)
 {
+  // An impossible size is an error and an empty output, not an allocation that overcommits
+  // and is killed when written.
+  const int* update = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT());
+  const double points =
+    (update[1] - update[0] + 1.0) * (update[3] - update[2] + 1.0) * (update[5] - update[4] + 1.0);
+  vtksys::SystemInformation system;
+  system.RunMemoryCheck();
+  const double memory = 1048576.0 * static_cast<double>(system.GetTotalPhysicalMemory()); // MiB
+  if (memory > 0.0 &&
+    points * vtkDataArray::GetDataTypeSize(vtkImageData::GetScalarType(outInfo)) > memory)
+  {
+    vtkErrorMacro("A volume of " << points << " points does not fit in this machine's "
+                                 << std::floor(memory / 1048576.0) << " MiB of memory.");
+    return;
+  }
   vtkImageData* output = this->AllocateOutputData(outputObject, outInfo);
   vtkDataArray* scalars = output->GetPointData()->GetScalars();
   scalars->SetName("MarschnerLobb");

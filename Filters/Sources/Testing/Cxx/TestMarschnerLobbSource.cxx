@@ -10,6 +10,7 @@
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTestErrorObserver.h"
+#include "vtkThinFeatureSource.h"
 
 #include <algorithm>
 #include <cmath>
@@ -219,6 +220,21 @@ int TestMarschnerLobbSource(int, char*[])
   Check(errors->GetError() && errors->GetErrorMessage().find("Unsupported") != std::string::npos,
     "an unsupported output type is reported");
   Check(source->GetOutput()->GetScalarType() == VTK_FLOAT, "an unsupported type gives float");
+
+  // A volume beyond memory: an error and an empty output, not a process killed writing it.
+  errors->Clear();
+  source->SetDimensions(100000, 100000, 100000);
+  source->Update();
+  Check(errors->GetError() && errors->GetErrorMessage().find("does not fit") != std::string::npos,
+    "a volume of 10^15 points is reported");
+  Check(source->GetOutput()->GetNumberOfPoints() == 0, "and nothing is allocated");
+  vtkNew<vtkThinFeatureSource> thin;
+  thin->AddObserver(vtkCommand::ErrorEvent, errors);
+  errors->Clear();
+  thin->SetDimensions(100000, 100000, 100000);
+  thin->Update();
+  Check(errors->GetError() && thin->GetOutput()->GetNumberOfPoints() == 0,
+    "the thin-feature source reports a volume of 10^15 points too");
 
   if (failures)
   {
