@@ -195,6 +195,8 @@ void vtkPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SegmentLength: " << this->SegmentLength << "\n";
   os << indent << "ScalarRange: " << this->ScalarRange[0] << " " << this->ScalarRange[1] << "\n";
   os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "ComputeEntries: " << this->ComputeEntries << "\n";
+  os << indent << "AbortBuild: " << this->AbortBuild << "\n";
   os << indent << "BuildCount: " << this->BuildCount << "\n";
   os << indent << "LastBuildTime: " << this->LastBuildTime << "\n";
 }
