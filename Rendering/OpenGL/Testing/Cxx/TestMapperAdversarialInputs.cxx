@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 // The adversarial suite of the mappers (vtkPreIntegrationVolumeMapper in both orders,
-// vtkAnalyticVolumeMapper for isosurfaces and maxima, vtkObjectOrderVolumeMapper): truncated
+// vtkAnalyticVolumeMapper for isosurfaces and maxima, vtkObjectOrderVolumeMapper) and of the
+// OpenGL helpers (vtkFloatRGBARenderCapture, vtkOpenGLPreIntegrationTableBuilder): truncated
 // and long arrays, non-finite geometry, NaN, Inf and fill values, 1-voxel slabs, careless sample
 // distances and every scalar type must each end in a drawn, finite image or in an error
 // through the mapper's observers with nothing drawn; never a crash, a sanitizer report, or an
@@ -9,8 +10,13 @@
 
 #include "vtkAnalyticVolumeMapper.h"
 #include "vtkContourValues.h"
+#include "vtkFloatRGBARenderCapture.h"
 #include "vtkObjectOrderVolumeMapper.h"
+#include "vtkOpenGLPreIntegrationTableBuilder.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkPreIntegrationVolumeMapper.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
+#include "vtkTextureObject.h"
 #include "vtkVolume.h"
 
 #include <cstdio>
@@ -210,6 +216,45 @@ int TestMapperAdversarialInputs(int, char*[])
       typed,
       type == VTK_CHAR ? EITHER : IMAGE);
     volume->SetProperty(property);
+  }
+
+  {
+    // The OpenGL helpers: each misuse is an error through their observers.
+    auto expectError = [&](const std::string& name,
+                         const char* helper,
+                         vtkObject* object,
+                         const std::function<bool()>& call)
+    {
+      vtkNew<vtkTest::ErrorObserver> said;
+      hovrTest::Observe(object, said);
+      const bool ok = !call() && said->GetError();
+      table.push_back({ name, helper, ok ? "error" : "no error", ok });
+      check(ok, name + " / " + helper + ": an error");
+      object->RemoveAllObservers();
+    };
+    vtkNew<vtkFloatRGBARenderCapture> capture;
+    vtkNew<vtkImageData> image;
+    expectError(
+      "capture before Attach", "float capture", capture, [&] { return capture->Capture(image); });
+    expectError(
+      "Attach to no window", "float capture", capture, [&] { return capture->Attach(nullptr); });
+    vtkNew<vtkOpenGLPreIntegrationTableBuilder> builder;
+    vtkNew<vtkSecondOrderPreIntegrationTable> unbuilt;
+    vtkNew<vtkTextureObject> texture;
+    auto* context = vtkOpenGLRenderWindow::SafeDownCast(view.GetWindow());
+    const unsigned int rgba32f = 0x8814; // GL_RGBA32F
+    expectError("build without a context",
+      "table builder",
+      builder,
+      [&] { return builder->Build(nullptr, unbuilt, texture, rgba32f); });
+    expectError("build of an unprepared table",
+      "table builder",
+      builder,
+      [&] { return builder->Build(context, unbuilt, texture, rgba32f); });
+    expectError("build into format 0x1234",
+      "table builder",
+      builder,
+      [&] { return builder->Build(context, unbuilt, texture, 0x1234); });
   }
 
   std::printf("%-28s  %-13s  %s\n", "case", "mapper", "outcome");
