@@ -66,12 +66,7 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
     return 1;
   }
   double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[0] <= range[1]))
-  {
-    vtkErrorMacro("The scalars hold no finite value.");
-    return 1;
-  }
+  scalars->GetFiniteRange(range, 0); // not empty and finite: checked by PrepareFrame
   if (!(range[1] > range[0]))
   {
     range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6); // the mapper's

@@ -505,7 +505,7 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
 
   double range[2];
   scalars->GetRange(range, 0);
-  const double dataRange = std::isfinite(range[1] - range[0]) ? range[1] - range[0] : 0.0;
+  const double dataRange = range[1] - range[0]; // finite: checked by PrepareFrame
   std::vector<double> isoValues;
   if (iso)
   {
