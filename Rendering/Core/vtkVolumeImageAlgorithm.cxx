@@ -173,6 +173,14 @@ vtkFloatArray* vtkVolumeImageAlgorithm::InitializeOutput(vtkImageData* output,
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+// Smallest volume diagonal that is rendered: 1e5 times vtkCamera's least distance to its
+// focal point.
+constexpr double MinimumDiagonal = 1e-15;
+}
+
+//------------------------------------------------------------------------------
 std::string vtkVolumeImageAlgorithm::CheckGeometry(vtkImageData* input)
 {
   std::ostringstream why;
@@ -197,6 +205,16 @@ std::string vtkVolumeImageAlgorithm::CheckGeometry(vtkImageData* input)
         << spacing[2] << "), direction matrix determinant " << determinant
         << "; they must be finite, the spacing non-zero, the direction matrix invertible and the "
            "bounds within double range.";
+    return why.str();
+  }
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  if (!(diagonal >= MinimumDiagonal))
+  {
+    // vtkCamera keeps at least 1e-20 from its focal point: too far to frame a smaller volume.
+    why << "The volume is " << diagonal << " across, less than " << MinimumDiagonal
+        << ": no vtkCamera can frame it; scale the spacing.";
     return why.str();
   }
   return std::string();

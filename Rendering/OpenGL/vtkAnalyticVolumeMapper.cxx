@@ -5,6 +5,8 @@
 #include "vtkCameraRayModel.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -29,6 +31,10 @@ vtkStandardNewMacro(vtkAnalyticVolumeMapper);
 
 namespace
 {
+// Largest world coordinate (volume bounds, camera position) of an analytic frame: its square
+// and sums of squares stay below float's largest value.
+constexpr double MaximumCoordinate = 1e18;
+
 bool IsAnalyticBlend(int blend)
 {
   return blend == vtkVolumeMapper::ISOSURFACE_BLEND ||
@@ -349,6 +355,38 @@ void vtkAnalyticVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 }
 
 //------------------------------------------------------------------------------
+bool vtkAnalyticVolumeMapper::HasNaN(vtkDataArray* scalars)
+{
+  if (scalars != this->NaNScalars || scalars->GetMTime() > this->NaNTime)
+  {
+    const vtkIdType n = scalars->GetNumberOfValues();
+    bool found = false;
+    if (auto* f = vtkFloatArray::SafeDownCast(scalars))
+    {
+      found =
+        std::any_of(f->GetPointer(0), f->GetPointer(0) + n, [](float v) { return std::isnan(v); });
+    }
+    else if (auto* d = vtkDoubleArray::SafeDownCast(scalars))
+    {
+      found =
+        std::any_of(d->GetPointer(0), d->GetPointer(0) + n, [](double v) { return std::isnan(v); });
+    }
+    else if (scalars->GetDataType() == VTK_FLOAT || scalars->GetDataType() == VTK_DOUBLE)
+    {
+      for (vtkIdType i = 0; i < n && !found; ++i)
+      {
+        found = std::isnan(scalars->GetComponent(i / scalars->GetNumberOfComponents(),
+          static_cast<int>(i % scalars->GetNumberOfComponents())));
+      }
+    }
+    this->NaNScalars = scalars;
+    this->NaNTime = scalars->GetMTime();
+    this->ScalarsHaveNaN = found;
+  }
+  return this->ScalarsHaveNaN;
+}
+
+//------------------------------------------------------------------------------
 const char* vtkAnalyticVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
   vtkDataArray* scalars,
   int cellFlag)
@@ -379,10 +417,6 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   vtkVolume* vol)
 {
   this->PackedThisFrame = false;
-  if (this->Method == STOCK && this->OutputQuantity == OUTPUT_COLOR)
-  {
-    return DrawStock;
-  }
   int dims[3], cellFlag;
   FramePlan plan = DrawWithExtension;
   vtkDataArray* scalars = this->GetFrameScalars(dims, cellFlag, plan);
@@ -397,6 +431,19 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;
   }
+  if (this->Method == STOCK && IsAnalyticBlend(this->BlendMode) && this->HasNaN(scalars))
+  {
+    // VTK's sampled projections and isosurface take NaN samples into their comparisons.
+    vtkErrorMacro("VTK's sampled "
+      << (this->BlendMode == vtkVolumeMapper::ISOSURFACE_BLEND ? "isosurface" : "projection")
+      << " does not skip NaN values (its extremum and surface tests go wrong on them); use the "
+         "ANALYTIC method, which draws NaN cells transparent, or replace them. Not drawing.");
+    return DrawNothing;
+  }
+  if (this->Method == STOCK && this->OutputQuantity == OUTPUT_COLOR)
+  {
+    return DrawStock;
+  }
   if (!IsAnalyticBlend(this->BlendMode))
   {
     this->WarnFallbackOnce(
@@ -406,6 +453,27 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   }
   if (this->Method == ANALYTIC)
   {
+    // The analytic rays are computed in float from world coordinates, whose squares must
+    // stay finite.
+    double bounds[6], eye[3];
+    vol->GetBounds(bounds);
+    ren->GetActiveCamera()->GetPosition(eye);
+    double largest = 0.0;
+    for (double v : bounds)
+    {
+      largest = std::max(largest, std::abs(v));
+    }
+    for (double v : eye)
+    {
+      largest = std::max(largest, std::abs(v));
+    }
+    if (!(largest <= MaximumCoordinate))
+    {
+      vtkErrorMacro("Analytic rendering computes its rays in float, where coordinates of "
+        << largest << " overflow when squared (at most " << MaximumCoordinate
+        << "); scale the spacing or move the origin and the camera. Not drawing.");
+      return DrawNothing;
+    }
     if (const char* reason = this->GetStockFallbackReason(vol, scalars, cellFlag))
     {
       this->WarnFallbackOnce(reason);
@@ -431,6 +499,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(scalars, scale, shift);
   this->RawToData[0] = static_cast<float>(scale);
   this->RawToData[1] = static_cast<float>(shift);
+  this->RawRange[0] = static_cast<float>((range[0] - shift) / scale);
+  this->RawRange[1] = static_cast<float>((range[1] - shift) / scale);
   this->IsoRaw.clear();
   if (this->BlendMode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
@@ -580,7 +650,12 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
       std::ostringstream exit;
       exit << "if (!l_firstValue)\n"
            << "  {\n"
-           << "    float raw = (" << value << ".w - in_volume_bias[0].r) / in_volume_scale[0].r;\n"
+           << "    float raw = (" << value
+           << ".w - in_volume_bias[0].r) / in_volume_scale[0].r;\n"
+           // An extremum lies in the data range; VTK's normalised texture loses constant
+           // data (zero width), which this restores.
+           << "    raw = raw >= hovr_rawRange.x ? raw : hovr_rawRange.x;\n"
+           << "    raw = raw <= hovr_rawRange.y ? raw : hovr_rawRange.y;\n"
            << "    hovr_output = vec4(raw * hovr_rawToData.x + hovr_rawToData.y, 0.0, 0.0, 1.0);\n"
            << "  }";
       ok = ok &&
@@ -604,6 +679,7 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
 void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume*)
 {
   program->SetUniform2f("hovr_rawToData", this->RawToData);
+  program->SetUniform2f("hovr_rawRange", this->RawRange);
   if (this->Method != ANALYTIC)
   {
     return;

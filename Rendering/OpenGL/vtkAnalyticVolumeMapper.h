@@ -179,6 +179,13 @@ protected:
   std::vector<float> IsoRaw;
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
+  float RawRange[2] = { 0.0f, 1.0f }; // the data's finite range in texture values
+
+  // Whether the scalars hold NaN, kept for the scalars and their modification time.
+  bool HasNaN(vtkDataArray* scalars);
+  vtkDataArray* NaNScalars = nullptr; // not referenced: only compared
+  vtkMTimeType NaNTime = 0;
+  bool ScalarsHaveNaN = false;
   vtkCameraRayModel* RayModel;
   bool CornerPacking = true;
   bool PackedThisFrame = false; // CornerPacking, unless the copy failed for these scalars

@@ -277,6 +277,12 @@ vtkDataArray* vtkExtensibleGPUVolumeRayCastMapper::GetFrameScalars(int dims[3],
     {
       why = "The scalars hold infinite values; replace them by NaN or a finite fill value.";
     }
+    else if (std::max(std::abs(finite[0]), std::abs(finite[1])) > VTK_FLOAT_MAX)
+    {
+      // The volume texture is float at most: such values would become infinite.
+      why = "The scalar range exceeds float range, in which the volume texture holds it; "
+            "rescale the values.";
+    }
   }
   if (!why.empty())
   {
@@ -312,11 +318,16 @@ double* vtkExtensibleGPUVolumeRayCastMapper::GetBounds()
 {
   double* bounds = this->Superclass::GetBounds();
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
-  if (input && !std::all_of(bounds, bounds + 6, [](double b) { return std::isfinite(b); }) &&
-    input->GetMTime() != this->ReportedBoundsTime)
+  if (input && input->GetMTime() != this->ReportedBoundsTime)
   {
+    // Also where VTK or ParaView skip drawing after a look at the bounds, so that the mapper
+    // never gets to say why.
     this->ReportedBoundsTime = input->GetMTime();
-    vtkErrorMacro(<< vtkVolumeImageAlgorithm::CheckGeometry(input) << " Not drawing.");
+    const std::string why = vtkVolumeImageAlgorithm::CheckGeometry(input);
+    if (!why.empty())
+    {
+      vtkErrorMacro(<< why << " Not drawing.");
+    }
   }
   return bounds;
 }

@@ -281,11 +281,16 @@ double* vtkObjectOrderVolumeMapper::GetBounds()
 {
   double* bounds = this->Superclass::GetBounds();
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
-  if (input && !std::all_of(bounds, bounds + 6, [](double b) { return std::isfinite(b); }) &&
-    input->GetMTime() != this->ReportedBoundsTime)
+  if (input && input->GetMTime() != this->ReportedBoundsTime)
   {
+    // Also where VTK or ParaView skip drawing after a look at the bounds, so that the mapper
+    // never gets to say why.
     this->ReportedBoundsTime = input->GetMTime();
-    vtkErrorMacro(<< vtkVolumeImageAlgorithm::CheckGeometry(input) << " Not drawing.");
+    const std::string why = vtkVolumeImageAlgorithm::CheckGeometry(input);
+    if (!why.empty())
+    {
+      vtkErrorMacro(<< why << " Not drawing.");
+    }
   }
   return bounds;
 }

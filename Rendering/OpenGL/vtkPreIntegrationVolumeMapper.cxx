@@ -5,6 +5,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -175,14 +176,27 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkVolume* vol
 }
 
 //------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::WarnIfTransparent(vtkVolumeTransferFunctionSampler* sampler,
+  const double range[2])
+{
+  if (sampler && !(sampler->GetMaximumOpacity(range[0], range[1]) > 0.0))
+  {
+    std::ostringstream message;
+    message << "The scalar opacity is zero over the data range [" << range[0] << ", " << range[1]
+            << "]: the image is transparent.";
+    this->WarnEmptyOnce(message.str());
+  }
+  else
+  {
+    this->ClearEmptyWarning();
+  }
+}
+
+//------------------------------------------------------------------------------
 vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::PrepareExtension(
   vtkRenderer* ren,
   vtkVolume* vol)
 {
-  if (this->Integration == STOCK)
-  {
-    return DrawStock;
-  }
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
   {
     vtkErrorMacro("The sample distance must be positive and finite, got " << this->SampleDistance
@@ -209,12 +223,16 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
                                          << " (MaximumSamplesPerRay); not drawing.");
     return DrawNothing;
   }
-  if (const char* reason = this->GetStockFallbackReason(vol, scalars))
+  const bool stock = this->Integration == STOCK;
+  if (!stock)
   {
-    this->WarnFallbackOnce(reason);
-    return DrawStock;
+    if (const char* reason = this->GetStockFallbackReason(vol, scalars))
+    {
+      this->WarnFallbackOnce(reason);
+      return DrawStock;
+    }
+    this->ClearFallbackWarning();
   }
-  this->ClearFallbackWarning();
 
   double range[2];
   scalars->GetFiniteRange(range, 0);
@@ -223,10 +241,20 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;
   }
+  const double dataRange[2] = { range[0], range[1] };
   if (!(range[1] > range[0]))
   {
     // Flat data: any non-empty range holds its one value; 1 alone vanishes next to 1e20.
     range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
+  }
+  if (stock)
+  {
+    // VTK's own compositing (no table), after the checks of the input it would read
+    // unchecked.
+    vtkNew<vtkVolumeTransferFunctionSampler> sampler;
+    sampler->SetFromVolumeProperty(vol->GetProperty());
+    this->WarnIfTransparent(sampler->Prepare() ? sampler.Get() : nullptr, dataRange);
+    return DrawStock;
   }
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
@@ -239,17 +267,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     vtkErrorMacro("The transfer functions cannot be pre-integrated; not drawing.");
     return DrawNothing;
   }
-  if (!(table->GetSampler()->GetMaximumOpacity(range[0], range[1]) > 0.0))
-  {
-    std::ostringstream message;
-    message << "The scalar opacity is zero over the data range [" << range[0] << ", " << range[1]
-            << "]: the image is transparent.";
-    this->WarnEmptyOnce(message.str());
-  }
-  else
-  {
-    this->ClearEmptyWarning();
-  }
+  this->WarnIfTransparent(table->GetSampler(), dataRange);
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   if (!this->SizeTable(context, scalars, cellFlag, range))
   {

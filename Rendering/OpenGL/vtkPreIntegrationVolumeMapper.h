@@ -47,6 +47,7 @@ class vtkOpenGLRenderWindow;
 class vtkPreIntegrationTableSizer;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
+class vtkVolumeTransferFunctionSampler;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkPreIntegrationVolumeMapper
   : public vtkExtensibleGPUVolumeRayCastMapper
@@ -282,6 +283,9 @@ protected:
     vtkVolume* vol) override;
   void SetExtensionShaderParameters(vtkShaderProgram* program, vtkVolume* vol) override;
   void ReleaseExtensionResources(vtkWindow* window) override;
+
+  // Warns once when the opacity is zero over the data range (no sampler: nothing to say).
+  void WarnIfTransparent(vtkVolumeTransferFunctionSampler* sampler, const double range[2]);
 
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);

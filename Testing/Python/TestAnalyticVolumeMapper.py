@@ -35,14 +35,18 @@ SIZE = (128, 128)
 renderer = hm.Renderer()
 
 
-def scene_for(image, blend, isovalues=(), camera=None, tf="iso-opaque"):
+def property_for(isovalues=(), tf="iso-opaque"):
     color, opacity, _ = hio.read_transfer_function(tf_path(tf))
     prop = hio.make_volume_property(color, opacity, 1.0)
     prop.ShadeOn()
     for k, value in enumerate(isovalues):
         prop.GetIsoSurfaceValues().SetValue(k, value)
+    return prop
+
+
+def scene_for(image, blend, isovalues=(), camera=None, tf="iso-opaque"):
     camera = camera or hio.default_camera(image.GetBounds())
-    return hm.Scene(image, prop, camera, SIZE, blend)
+    return hm.Scene(image, property_for(isovalues, tf), camera, SIZE, blend)
 
 
 def measure(name, scene, method, step=1.0):
@@ -227,17 +231,16 @@ def draw(image, blend, isovalues=(), setup=None):
     """Draw with the analytic mapper: (RGBA numpy array, mapper messages, frames drawn with
     the analytic shader)."""
     from vtkmodules.vtkRenderingCore import vtkVolume
-    scene = scene_for(image, blend, isovalues) if blend != "iso" or isovalues else None
-    if scene is None:  # Scene refuses isosurfaces without values; the mapper must too
-        color, opacity, _ = hio.read_transfer_function(tf_path("iso-opaque"))
-        scene = hm.Scene(image, hio.make_volume_property(color, opacity, 1.0),
-                         hio.default_camera(image.GetBounds()), SIZE)
+    # Not a Scene, which refuses bad volumes and isosurfaces without values: the mapper must
+    # refuse them too.
+    prop = property_for(isovalues)
+    if blend == "iso" and not isovalues:
         # VTK's volume property starts with one isovalue, 0: remove it.
-        scene.prop.GetIsoSurfaceValues().SetNumberOfContours(0)
+        prop.GetIsoSurfaceValues().SetNumberOfContours(0)
     renderer._ensure_window(SIZE)
     view = renderer._renderer
     view.RemoveAllViewProps()
-    view.GetActiveCamera().DeepCopy(scene.camera)
+    view.GetActiveCamera().DeepCopy(hio.default_camera(image.GetBounds()))
     mapper = hovr.vtkAnalyticVolumeMapper()
     mapper.SetBlendMode(hm.BLEND_MODES[blend])
     mapper.SetInputData(image)
@@ -246,7 +249,7 @@ def draw(image, blend, isovalues=(), setup=None):
     messages = Messages(mapper)
     volume = hm.vtkVolume()
     volume.SetMapper(mapper)
-    volume.SetProperty(scene.prop)
+    volume.SetProperty(prop)
     view.AddVolume(volume)
     view.ResetCameraClippingRange(image.GetBounds())
     renderer._window.Render()

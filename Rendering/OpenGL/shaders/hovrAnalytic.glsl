@@ -319,6 +319,12 @@ ivec3 hovr_boxBefore(ivec3 iNext, ivec3 boxes)
 bool hovr_cell(ivec3 cell, vec3 pe, vec3 px)
 {
   hovr_fetchCorners(cell);
+  // A NaN corner makes the whole interpolant NaN: the cell is transparent, with no surface
+  // and no extremum. Tested apart, as GLSL's min and max may drop a NaN operand.
+  if (any(isnan(hovr_lower)) || any(isnan(hovr_upper)))
+  {
+    return false;
+  }
   vec4 lo4 = min(hovr_lower, hovr_upper);
   vec4 hi4 = max(hovr_lower, hovr_upper);
   float lo = min(min(lo4.x, lo4.y), min(lo4.z, lo4.w));
@@ -371,7 +377,7 @@ bool hovr_cell(ivec3 cell, vec3 pe, vec3 px)
 #else
   bool better = lo <= hovr_bound && (!hovr_found || lo < hovr_extreme);
 #endif
-  if (better && !isnan(lo + hi))
+  if (better)
   {
     float candidate = hovr_segmentExtremum(ua, ub, hovr_found ? hovr_extreme : hovr_bound);
 #if HOVR_BLEND == 1

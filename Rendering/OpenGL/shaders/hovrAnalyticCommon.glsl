@@ -2,6 +2,7 @@
 // replaces the colour for measurements and the map from texture coordinates to grid index.
 
 uniform vec2 hovr_rawToData; // data value = raw texture value * x + y
+uniform vec2 hovr_rawRange;  // the data's finite range in raw texture values
 
 // What HOVR_OUTPUT 1 (hit position) and 2 (extremum) write instead of the colour.
 vec4 hovr_output = vec4(0.0);

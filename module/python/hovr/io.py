@@ -323,8 +323,9 @@ def camera_from_dict(values, origin="camera"):
         if key in values:
             vector = values[key]
             if (not isinstance(vector, list) or len(vector) != 3
-                    or not all(isinstance(v, (int, float)) for v in vector)):
-                raise HovrError("%s: '%s' must be three numbers" % (origin, key))
+                    or not all(isinstance(v, (int, float)) and math.isfinite(v)
+                               for v in vector)):
+                raise HovrError("%s: '%s' must be three finite numbers" % (origin, key))
             setter(*vector)
     camera.SetParallelProjection(bool(values.get("parallel_projection", False)))
     if "parallel_scale" in values:

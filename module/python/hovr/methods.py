@@ -7,6 +7,7 @@ images are exact enough to measure errors of 1e-4; the CPU reference is
 vtkVolumeReferenceIntegrator. Adding a method means adding one entry to ``METHODS``.
 """
 
+import math
 import statistics
 import time
 
@@ -20,7 +21,7 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import hovrRenderingCore as core
 from . import hovrRenderingOpenGL as gl
-from .io import HovrError
+from .io import HovrError, check_volume
 
 
 # The most samples a ray may take across the volume's diagonal: a GPU ray caster advances its
@@ -31,13 +32,17 @@ MAX_SAMPLES_PER_RAY = 100000
 # Blend modes by name, with vtkVolumeMapper's values; the arrays hovr render adds for them.
 BLEND_MODES = {"composite": 0, "mip": 1, "minip": 2, "iso": 5}
 BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
+FLOAT_MAX = 3.4028234663852886e38
 
 
 class Scene:
-    """What is rendered: a checked volume, a volume property (with the isosurface values for
-    ``iso``), a camera, an image size and a blend mode (a key of BLEND_MODES)."""
+    """What is rendered: a volume, a volume property (with the isosurface values for ``iso``),
+    a camera, an image size and a blend mode (a key of BLEND_MODES). The volume is checked
+    (io.check_volume): a HovrError when no method can render it, its warnings in
+    ``warnings``."""
 
     def __init__(self, image, prop, camera, size, blend="composite"):
+        self.warnings = check_volume(image)
         self.image = image
         self.prop = prop
         self.camera = camera
@@ -46,16 +51,33 @@ class Scene:
             raise HovrError("the image size must be at least 1x1, got %dx%d" % self.size)
         if blend not in BLEND_MODES:
             raise HovrError("unknown blend mode %r (known: %s)" % (blend, ", ".join(BLEND_MODES)))
+        for function, what in ((prop.GetScalarOpacity(), "scalar opacity"),
+                               (prop.GetRGBTransferFunction(), "colour")):
+            if function.GetSize() == 0:
+                raise HovrError("the %s transfer function has no points" % what)
         if blend == "iso" and prop.GetIsoSurfaceValues().GetNumberOfContours() < 1:
             raise HovrError("isosurface rendering needs at least one --isovalue")
         self.blend = blend
+        # One camera model for every method: a camera the reference's rays cannot follow
+        # (view up along the view, a zero parallel scale, non-finite values) is refused for all.
+        rays = core.vtkCameraRayModel()
+        rays.SetCamera(camera)
+        rays.SetImageSize(*self.size)
+        errors = _Errors(rays)
+        prepared = rays.Prepare()
+        try:
+            errors.close()
+        except HovrError as error:
+            raise HovrError("the camera cannot be used: %s" % error) from None
+        if not prepared:
+            raise HovrError("the camera cannot be used")
 
     def step_length(self, step):
         """World length of a step given in units of the smallest voxel spacing; a HovrError
         when it is not positive or would take more than MAX_SAMPLES_PER_RAY samples along the
         volume's diagonal."""
-        if not step > 0:
-            raise HovrError("the step must be positive, got %g" % step)
+        if not (step > 0 and math.isfinite(step)):
+            raise HovrError("the step must be positive and finite, got %g" % step)
         length = step * min(abs(s) for s in self.image.GetSpacing())
         bounds = self.image.GetBounds()
         diagonal = sum((bounds[2 * a + 1] - bounds[2 * a]) ** 2 for a in range(3)) ** 0.5
@@ -129,6 +151,14 @@ class Method:
     def make_mapper(self):
         raise NotImplementedError
 
+    def check_scene(self, scene):
+        """Raise HovrError when the method cannot draw ``scene`` right. Every method but the
+        reference stores the volume in float (GPU textures, the CPU casters' copies)."""
+        low, high = scene.image.GetPointData().GetScalars().GetFiniteRange()
+        if max(abs(low), abs(high)) > FLOAT_MAX:
+            raise HovrError("the scalar range [%g, %g] exceeds float range, in which %s stores "
+                            "the volume; rescale the values" % (low, high, self.name))
+
     def statistics(self, mapper):
         return {}
 
@@ -153,6 +183,9 @@ class ThreadedMethod(Method):
 
     def statistics(self, mapper):
         return self.method.statistics(mapper)
+
+    def check_scene(self, scene):
+        self.method.check_scene(scene)
 
     def set_threads(self, mapper, threads):
         self.method.set_threads(mapper, threads)
@@ -224,6 +257,14 @@ class FixedPointMethod(Method):
         mapper.SetImageSampleDistance(1.0)
         return mapper
 
+    def check_scene(self, scene):
+        super().check_scene(scene)
+        # Its integer copy of the volume turns NaN into arbitrary values.
+        if any("NaN" in warning for warning in scene.warnings):
+            raise HovrError("%s cannot render NaN values (VTK's CPU ray caster maps them to "
+                            "arbitrary ones); replace them by a value the transfer function "
+                            "makes transparent" % self.name)
+
     def set_threads(self, mapper, threads):
         import os
         mapper.SetNumberOfThreads(threads or os.cpu_count() or 1)
@@ -233,6 +274,9 @@ class ReferenceMethod(Method):
     kind = "cpu"
     uses_step = False
     blend = None
+
+    def check_scene(self, scene):
+        pass  # integrates in double
 
     def render_offline(self, renderer, scene, step, repeat):
         return renderer._render_reference(scene, repeat)
@@ -346,6 +390,15 @@ class Renderer:
             self._renderer.SetBackgroundAlpha(0.0)
             self._window.AddRenderer(self._renderer)
             self._capture = gl.vtkFloatRGBARenderCapture()
+            self._window.SetSize(1, 1)
+            self._window.Render()  # a context, to ask for its limits
+        # A window beyond the framebuffer limits makes the X server or the driver abort the
+        # process rather than report an error: refuse the size first.
+        from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+        limit = vtkTextureObject.GetMaximumTextureSize(self._window)
+        if limit > 0 and max(size) > limit:
+            raise HovrError("an image of %dx%d exceeds the largest framebuffer of this OpenGL "
+                            "(%d pixels a side)" % (size[0], size[1], limit))
         self._window.SetSize(*size)
         self._size = size
         errors = _Errors(self._capture)
@@ -361,6 +414,7 @@ class Renderer:
         method = get_method(method) if isinstance(method, str) else method
         if method.kind == "cpu":
             scene.step_length(step)  # validates the step
+            method.check_scene(scene)
             method.set_threads(None, getattr(method, "threads", 0))
             return method.render_offline(self, scene, step, repeat)
         return self.render_interleaved([(method, step)], scene, repeat)[0]
@@ -375,6 +429,7 @@ class Renderer:
             if method.blend is not None and method.blend != scene.blend:
                 raise HovrError("method %s renders %s, the scene is set up for %s" % (
                     method.name, method.blend, scene.blend))
+            method.check_scene(scene)
         self._ensure_window(scene.size)
         renderer = self._renderer
         renderer.RemoveAllViewProps()
