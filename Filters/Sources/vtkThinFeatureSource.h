@@ -8,8 +8,8 @@
  * to the grid, fixed so that images are reproducible. With Thickness below one voxel only
  * the points nearest a feature are non-zero, so the trilinear field rises above an isovalue
  * such as 0.5 in films and threads a fraction of a voxel thick: a ray caster that samples at
- * a fixed step steps over many of them, the analytic first hit finds them all (the test volume
- * of issue 4's measurements).
+ * a fixed step steps over many of them, the analytic first hit finds them all (the
+ * thin-features volume of presets/bench/analytic.json).
  *
  * Spacing 1, origin 0, extent 0..dims-1; float scalars "ThinFeatures" in [0, 1]. Any
  * sub-extent can be requested (a piece of a parallel pipeline computes only its own points).

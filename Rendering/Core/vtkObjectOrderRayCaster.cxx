@@ -554,10 +554,9 @@ void BinDirection(int bin, double n[3])
 // The tiles' walk and their sample loop, compiled twice: for any x86-64 processor (SSE2) and,
 // with GCC or Clang on x86-64, for those with AVX2 and FMA, where fused multiply-adds shorten
 // the chains of dependent operations of a sample and the unshaded rays of a leaf are sampled
-// eight at a time (HOVR_WALKER_AVX2: TileWalker::RunLanes; measured with GCC: 27-32% less
-// processor time per frame than the SSE2 copy). Everything in the file has internal linkage,
-// so neither copy replaces the other (no weak symbol of the object holds AVX code: checked
-// with GCC with the lanes, with Clang before them).
+// eight at a time (HOVR_WALKER_AVX2: TileWalker::RunLanes). Everything in the file has
+// internal linkage, so neither copy replaces the other (no weak symbol of the object holds AVX
+// code).
 namespace generic
 {
 #include "vtkObjectOrderRayCasterWalker.txx"
@@ -646,8 +645,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
   this->LastUpdateOutOfMemory = false;
   this->NumberOfNonTransparentCells = this->NumberOfNodesVisited = this->NumberOfSamples = 0;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
-  // The image is cleared by the walk where no tile writes it (measured: 0.2 ms less per
-  // frame at 512 x 512 than clearing it all first), or all of it when the frame stops before.
+  // The image is cleared by the walk where no tile writes it, so that no pixel is written
+  // twice, or all of it when the frame stops before.
   vtkFloatArray* rgba = this->InitializeOutput(vtkImageData::GetData(outputVector), false);
   if (!rgba)
   {
@@ -945,8 +944,8 @@ int vtkObjectOrderRayCaster::RequestData(vtkInformation*,
     this->SegmentTable->SetVolumeProperty(this->VolumeProperty);
     this->SegmentTable->SetSegmentLength(this->SampleDistance);
     this->SegmentTable->SetScalarRange(range);
-    // At most 512^2 entries (4 MiB): on headsq-semi, the bench's one table above that,
-    // 1024^2 (16 MiB) gave the same RMSE but missed the caches (6% slower per frame).
+    // At most 512^2 entries (4 MiB): a finer table falls out of the caches the sample loop
+    // relies on, for little gain in accuracy.
     this->SegmentTable->SetTableSize(vtkPreIntegrationTable::SuggestTableSize(
       scalars->GetDataType(), range, this->Sampler, 256, 512, 8.0)); // prepared by PrepareFrame
     if (!this->SegmentTable->Update())

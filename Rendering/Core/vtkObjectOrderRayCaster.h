@@ -4,8 +4,8 @@
  * @brief   object-order ray casting on the CPU (Mora, Jessel and Caubet)
  *
  * Composite volume rendering of the trilinear field for parallel projection, walking the
- * volume instead of the rays ("Interactive volume rendering of large datasets... object-order
- * ray-casting", the paper of ../shared/papers/object-order-raycasting.txt):
+ * volume instead of the rays (Mora, Jessel and Caubet, "Interactive volume rendering of large
+ * datasets... object-order ray-casting"):
  *   - a vtkMinMaxOctree over the cells, built once per volume, is traversed front to back
  *     (children ordered by the view direction, valid for any parallel view); a node is skipped
  *     when the current opacity transfer function is zero over its range (section 4.1), so
@@ -105,10 +105,9 @@ public:
    * A pixel whose alpha reaches this value takes no more samples (early ray termination,
    * object-order). Initial value is 0.996: the rest of the ray can then add at most 0.4% of
    * full intensity, about one 8-bit display level, as where VTK's GPU ray caster stops
-   * (1 - 1/255; vtkFixedPointVolumeRayCastMapper stops at about 0.992). Measured against
-   * 0.999 on the bench: 5-6% less time per frame on ml256-opaque, RMSE 0.01430 against
-   * 0.01427 (headsq-opaque 0.0048 against 0.0046). Raise it towards 1 where float images
-   * must follow rays further.
+   * (1 - 1/255; vtkFixedPointVolumeRayCastMapper stops at about 0.992): nearly opaque rays
+   * skip the samples that could change an 8-bit image by one level at most. Raise it towards
+   * 1 where float images must follow rays further.
    */
   vtkSetClampMacro(OpacityThreshold, double, 1e-3, 1.0);
   vtkGetMacro(OpacityThreshold, double);
@@ -184,8 +183,8 @@ public:
    * per-cell rendering), 2, 4 or 8 (rounded down to a power of two). Larger leaves pay less
    * traversal, fewer screen tests and fewer ray segments per sample; smaller ones skip
    * transparent and hidden space more finely, but each leaf's rays are clipped to the box of
-   * its visible cells, which recovers most of that (8 was fastest on every bench volume and
-   * zoom measured). The image depends on it only by float rounding (leaf-local
+   * its visible cells, which recovers most of that, so the largest leaves usually cost the
+   * least. The image depends on it only by float rounding (leaf-local
    * coordinates: a sample within rounding of a cell face may fall in the cell on its other
    * side). Initial value is 8.
    */
@@ -209,8 +208,7 @@ public:
    * float rounding (on a few pixels where a sample lies on a cell face, by more); each is the
    * same for any number of threads. The AVX2 copy also samples the unshaded rays of a leaf
    * eight at a time, one vector lane each (positions, cells, corners and scalars as vectors;
-   * the same image as its one-ray loop): it took 27-32% less processor time per frame than
-   * the SSE2 copy on ml256-opaque, ml256-semi and headsq-opaque in a GCC build.
+   * the same image as its one-ray loop), so that eight rays share each instruction.
    * Initial value is INSTRUCTIONS_AUTOMATIC.
    */
   vtkSetClampMacro(InstructionSet, int, INSTRUCTIONS_AUTOMATIC, INSTRUCTIONS_AVX2);

@@ -44,10 +44,8 @@ struct LeafCells
 
 // The cells of a leaf's ray segments: the cell and cell-local coordinates of a segment's
 // point at entry + dt direction. Built once per leaf (its constants), then started at each
-// segment's entry (measured: 5% less time per frame on headsq-opaque, 1% on ml256-opaque,
-// than building it per segment). With SSE2 the three axes take one vector operation each
-// (measured: 6% less time per frame on the semi-transparent cases than the scalar loop);
-// both paths give the same cells and coordinates.
+// segment's entry, so that a segment pays only for what changes along it. With SSE2 the three
+// axes take one vector operation each; both paths give the same cells and coordinates.
 class SegmentCells
 {
 public:
@@ -253,9 +251,8 @@ struct LeafView
 
   // Asks for the points of the leaf's size[0] x size[1] x size[2] cells (a span of up to 46
   // cache lines of its brick) all at once, before its rays need them: they are then fetched
-  // from memory together instead of one miss after the other as the first rays reach them
-  // (measured: 14-18% less time per frame on ml256-opaque, whose visible bricks outgrow
-  // the caches; asking for the next leaves' points one octree level up gained nothing more).
+  // from memory together instead of one miss after the other as the first rays reach them,
+  // which matters where the visible bricks outgrow the caches.
   void Prefetch(const int size[3]) const
   {
     constexpr int P = BrickPoints, PP = BrickPoints * BrickPoints;
@@ -321,7 +318,7 @@ public:
   float* Image; // W x H RGBA
   // The tile's pixels, row by row, written to the image after the walk: a leaf's rays
   // touch one small block instead of rows of whole-image arrays a power of two apart, which
-  // fall in the same few cache sets (measured at 512x512: 11-12% less time per frame).
+  // fall in the same few cache sets and evict each other.
   std::vector<PixelState> Pixels;
   int TileWidth = 0;
   void (TileWalker::*LeafFunction)(int, const int*, const int*) = nullptr;
@@ -405,9 +402,8 @@ public:
     // alpha = 1 - (1 - full)^(length / step); the two lengths most pieces have (a whole step
     // and half of one) without the logarithm and exponential (to 1e-12 of the exponent). The
     // other lengths (a ray's first and last pieces, one per ray entering through a visible
-    // face) take float logf and expf, which glibc computes about 2.5 times faster than double
-    // log1p and expm1 (measured: 6% less time per frame on ml256-opaque); the absolute error
-    // of alpha stays within a few float ulps of 1, far below the sampling error.
+    // face) take float logf and expf, which cost much less than double log1p and expm1; the
+    // absolute error of alpha stays within a few float ulps of 1, far below the sampling error.
     const double ratio = length / step;
     float alpha;
     if (std::abs(ratio - 1.0) <= 1e-12)
@@ -569,8 +565,8 @@ public:
       far[a] = lo[a] + size[a];
     }
     // The leaf in its brick, and the box of its visible cells: the rays are clipped to it,
-    // since the positions outside it fall in transparent cells (measured on headsq-semi:
-    // 28% fewer positions, 22% fewer pixels tested, 7% less time per frame).
+    // since the positions outside it fall in transparent cells: fewer positions and pixels
+    // are tested.
     LeafView leaf(I, lo);
     int first[3], last[3];
     if (!leaf.VisibleBox(size, first, last))
@@ -621,8 +617,8 @@ public:
       PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
       if (state.Chord[0] != state.Chord[0])
       {
-        // (Rather than every chord of the tile before its walk; measured on a fully
-        // transparent ml256 frame, 512 x 512, 2 threads: 0.72 ms instead of 0.97.)
+        // (At the pixel's first segment rather than for every pixel of the tile before its
+        // walk: many pixels of a tile meet no visible leaf and never need their chord.)
         I.Chord(px, py, state.Chord[0], state.Chord[1]);
       }
 #ifdef HOVR_WALKER_AVX2
@@ -877,7 +873,7 @@ public:
   void RunLanes(Lanes& lanes, const LaneCells& leafCells, LeafView& leaf, vtkIdType& samples)
   {
     // A local copy, which the stores of the loop cannot alias: the constants stay in
-    // registers (measured: 1% less time per frame than reading them through the reference).
+    // registers rather than being read again through the reference.
     const LaneCells cells = leafCells;
     const auto& I = this->I;
     const int count = lanes.Count;
@@ -941,8 +937,7 @@ public:
           _mm256_slli_epi32(_mm256_add_epi32(c[1], _mm256_slli_epi32(c[2], 3)), 3)));
       // The cell's bit among the brick's visible ones, whose 16 32-bit words two registers
       // hold: a permutation of each and a blend by the sign of the word index shifted so
-      // that its fourth bit is the sign (shorter than a gather's latency; measured: 2-3% less
-      // time per frame on ml256-opaque and headsq-opaque).
+      // that its fourth bit is the sign (shorter than a gather's latency).
       const __m256i word = _mm256_srli_epi32(key, 5);
       const __m256i bit = _mm256_and_si256(
         _mm256_srlv_epi32(
@@ -964,8 +959,8 @@ public:
         // The corners in pairs along x (a 64-bit load each, half the loads of loading them
         // one by one): 4 rows (y, z) for lanes 0-3 and 4 for lanes 4-7, split into the
         // corners of lanes 0 1 4 5 2 3 6 7 (the pairs' order), in which the trilinear
-        // interpolation runs. Loads and shuffles rather than AVX2 gathers, which took 2.5
-        // times as long on the AMD EPYC (Zen 5) this was measured on.
+        // interpolation runs. Loads and shuffles rather than AVX2 gathers, which are slow on
+        // common x86 cores.
         alignas(32) int pointOf[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(pointOf), point);
         __m256 v[8];
@@ -1124,7 +1119,7 @@ public:
       ray.PendingShade[0] = state.PendingShade[0];
       ray.PendingShade[1] = state.PendingShade[1];
       // The previous sample's place in the segment table, kept rather than found again for
-      // each segment (measured: 4-8% less time per frame on the bench, same images).
+      // each segment: the same value, computed once per sample rather than twice.
       ray.PreviousPlace = this->SegmentPlace(ray.PreviousScalar);
     }
   }
@@ -1166,8 +1161,7 @@ public:
       {
         // Most samples: the segment from the previous one, and this one owes its trailing
         // half step until the next joins it. (One test here rather than the general case's
-        // tests of the chord's end and the gap: measured 2-4% less time per frame on
-        // ml256-opaque.)
+        // tests of the chord's end and the gap.)
         this->SegmentPiece(ray.PreviousPlace, place, piece);
         opaque = Composite<Shading>(ray.Acc, piece, shade, highlight, threshold);
         ray.PendingScalar = s;
@@ -1235,9 +1229,9 @@ public:
   // The part [tin, tout) of a pixel's ray (its state) in the leaf at lo, from its sample
   // phase + n step on; entry: the ray at tin, leaf-local (its direction is Direction). Each
   // sample position finds its cell from its leaf-local coordinates (cells), in the leaf's
-  // small float coordinates, and is taken when that cell is visible. (Measured against a walk
-  // cell by cell: no branch per cell crossed, whose outcome the branch predictor misses often,
-  // and fewer instructions on small cells.)
+  // small float coordinates, and is taken when that cell is visible. (Rather than a walk cell
+  // by cell: no branch per cell crossed, whose outcome the branch predictor misses often, and
+  // fewer instructions on small cells.)
   // Specialized for the classification and the shading, so the loop holds only the code the
   // scene needs. True when the pixel became opaque.
   template <bool Preintegrated, int Shading>

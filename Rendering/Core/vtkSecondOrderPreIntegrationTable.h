@@ -118,9 +118,8 @@ public:
    * integrating. A feature narrower than the spacing then keeps its integral over scalar
    * values wherever the entries fall, but not the integral along a ray whose scalar lingers
    * near it: a ray that stays at a value next to a narrow opacity spike collects the spike's
-   * averaged opacity, which the transfer function does not give it (twice the true opacity
-   * in measured cases). A table whose centre spacing resolves the transfer function needs no
-   * prefilter. Initial value is false.
+   * averaged opacity, which the transfer function does not give it. A table whose centre
+   * spacing resolves the transfer function needs no prefilter. Initial value is false.
    */
   vtkSetMacro(Prefilter, bool);
   vtkGetMacro(Prefilter, bool);

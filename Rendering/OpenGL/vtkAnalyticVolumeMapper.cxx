@@ -154,10 +154,10 @@ vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
 void vtkAnalyticVolumeMapper::UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol)
 {
   // VTK's shader reaches a ray's points through float matrices from window to texture space,
-  // with eye-space values of the camera's distance: the ray lands up to ~1e-4 world units off
-  // at a distance of ~600, which a slanted surface turns into 1e-3 voxel of depth. The camera
-  // model gives each ray's point near the volume and its direction in double, so float only
-  // rounds at the volume's own scale.
+  // with eye-space values of the camera's distance: a ray's points round at the scale of that
+  // distance, which a slanted surface magnifies in depth beyond the 1e-3 voxel the analytic hit
+  // is held to. The camera model gives each ray's point near the volume and its direction in
+  // double, so float only rounds at the volume's own scale.
   this->RayFrameInUse = 0;
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   vtkCamera* camera = ren->GetActiveCamera();

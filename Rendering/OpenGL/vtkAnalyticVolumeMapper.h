@@ -98,8 +98,8 @@ public:
    * the points of each block; a ray walks the blocks and enters only those that may hold an
    * isovalue (or, for the projections, beat the extremum found so far), cell by cell. The
    * image is the same with or without; 0 turns skipping off. Rebuilt when the data changes.
-   * Initial value is 8 (a 256^3 volume gets a 32^3 texture of 256 KiB); on llvmpipe 8 is
-   * about 20% faster than 4 for projections of dense data, 5% slower on sparse data.
+   * Initial value is 8 (a 256^3 volume gets a 32^3 texture of 256 KiB): larger blocks take
+   * fewer block steps through dense data, smaller ones skip sparse data more finely.
    */
   vtkSetClampMacro(BlockSize, int, 0, 64);
   vtkGetMacro(BlockSize, int);
@@ -115,10 +115,10 @@ public:
    * Read each cell's 8 corners with 2 texture fetches instead of 8, from a second copy of the
    * volume holding 4 points per texel (the point and its neighbours in x, y and both). Costs
    * 4 values per point of GPU memory (in the data's type for 8- and 16-bit unsigned scalars,
-   * else float: 4, 8 or 16 bytes per point) for ~25% less time per analytic frame on
-   * llvmpipe. The image is the same either way. When the copy cannot be made (not enough
-   * memory, or the GPU refuses the texture), the cells are read from VTK's volume texture
-   * after one warning, until the scalars change. Initial value is on.
+   * else float: 4, 8 or 16 bytes per point) for a quarter of the fetches per cell. The image
+   * is the same either way. When the copy cannot be made (not enough memory, or the GPU
+   * refuses the texture), the cells are read from VTK's volume texture after one warning,
+   * until the scalars change. Initial value is on.
    */
   vtkSetMacro(CornerPacking, bool);
   vtkGetMacro(CornerPacking, bool);

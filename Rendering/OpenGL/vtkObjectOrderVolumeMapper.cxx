@@ -196,8 +196,7 @@ void vtkObjectOrderVolumeMapper::DrawImage(vtkRenderer* ren, const int size[2])
     return; // the caster reported why
   }
   // Only the pixels that rays through the volume can reach: the image is zero elsewhere,
-  // which "over" leaves unchanged (measured: the upload and draw of a whole 512 x 512 float
-  // image took 1.3 ms per frame on llvmpipe).
+  // which "over" leaves unchanged, so uploading and drawing it would cost time for nothing.
   int pixels[4];
   this->Caster->GetLastVolumePixels(pixels);
   if (pixels[1] < pixels[0] || pixels[3] < pixels[2])

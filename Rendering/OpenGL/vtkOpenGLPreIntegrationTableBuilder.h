@@ -14,12 +14,13 @@
  * Like the CPU it sets slabs whose scalar stays in one zero-opacity run to zero without
  * integrating (the test is exact here, in integers) and gives the diagonal (constant scalar)
  * the exact exponential, computed on the CPU. Both builds agree to float rounding (bit for
- * bit on Mesa llvmpipe). Unlike the paper it integrates front to back, skips empty slabs and
- * renders into the 3D texture directly instead of copying the framebuffer.
+ * bit where OpenGL neither fuses multiply-adds nor rounds exp() otherwise than the C++
+ * library). Unlike the paper it integrates front to back, skips empty slabs and renders into
+ * the 3D texture directly instead of copying the framebuffer.
  *
- * Speed: it is meant for hardware GPUs (not measured here). On Mesa llvmpipe with 2 cores,
- * which runs the shader on the CPU without the CPU builder's sharing of lookups between
- * (i, j, k) and (k, j, i), a build takes about twice as long as the CPU build.
+ * Speed: it is meant for hardware GPUs. A software renderer such as Mesa's llvmpipe runs the
+ * shader on the CPU without the CPU builder's sharing of lookups between (i, j, k) and
+ * (k, j, i), so there the CPU build is faster.
  *
  * The table prepares the inputs without computing its entries on the CPU:
  * @code

@@ -526,8 +526,9 @@ bool vtkPreIntegrationVolumeMapper::BuildOnGPU(vtkOpenGLRenderWindow* context)
   {
     return this->TableBuilder == BUILD_ON_GPU;
   }
-  // Software renderers run fragment shaders on the CPU, where the CPU builder, which shares
-  // each lookup between the two directions of a slab, is about twice as fast (llvmpipe).
+  // Software renderers (llvmpipe, softpipe, SwiftShader) run fragment shaders on the CPU,
+  // where the CPU builder, which shares each lookup between the two directions of a slab, is
+  // faster.
   const char* renderer =
     context ? reinterpret_cast<const char*>(glGetString(GL_RENDERER)) : nullptr;
   const std::string name = renderer ? renderer : "";

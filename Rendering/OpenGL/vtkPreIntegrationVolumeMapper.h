@@ -168,8 +168,8 @@ public:
    * Skip the table fetch of segments (first order) or slabs (second order) whose scalar stays
    * in one zero-opacity run of the transfer function; the result is the same. The test costs
    * a texel fetch per sample: it pays where table fetches are expensive (large tables on a
-   * GPU); with Mesa llvmpipe it was measured 5-20% slower than fetching. Initial value is
-   * false.
+   * GPU), and costs time where they are cheap, as on software renderers such as Mesa's
+   * llvmpipe. Initial value is false.
    */
   virtual void SetSkipEmptySegments(bool skip);
   vtkGetMacro(SkipEmptySegments, bool);
@@ -180,8 +180,8 @@ public:
   /**
    * The most integration steps along a table entry's segment or slab: an entry takes one step
    * per sample of the transfer function that its scalar sweeps (vtkSecondOrderPreIntegration-
-   * Table::Iterations), up to this many (the paper's 64 evenly spaced steps, now a cap).
-   * Initial value is 64.
+   * Table::Iterations), up to this many (the paper takes 64 evenly spaced steps for every
+   * entry). Initial value is 64.
    */
   virtual void SetIterations(int iterations);
   virtual int GetIterations();

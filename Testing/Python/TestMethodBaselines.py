@@ -7,7 +7,7 @@ the reference is drawn in every blend mode (MethodBaseline_reference-<blend>.png
 Parallel-only methods (objectorder) draw the same view in parallel projection.
 
 Tolerance: the PNGs are 8-bit, so a pixel may differ by 1/255 from rounding alone; llvmpipe
-results vary slightly between CPUs (ENVIRONMENT.md), so up to 0.5% of the pixels may differ
+results vary slightly between CPUs, so up to 0.5% of the pixels may differ
 by up to 8/255 and none by more. A missing baseline is written and the test fails: that is how
 a baseline is made (look at it before committing it).
 """

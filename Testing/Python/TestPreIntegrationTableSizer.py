@@ -41,7 +41,7 @@ import hovr
 from hovrtesting import Checker
 
 CASES = 50          # random transfer functions, each for both orders
-FIRST_SEED = 1000   # the cases the sizer was developed on used seeds 0-59
+FIRST_SEED = 1000   # clear of seeds 0-59, the sizer's tuning cases
 JUDGE_RAYS = 8192
 TOLERANCE = 1.05    # the chosen table's error over the best swept table's
 

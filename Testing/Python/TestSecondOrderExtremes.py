@@ -1,4 +1,4 @@
-"""Second-order pre-integration at the extremes (issue 3), rendered on the GPU and compared
+"""Second-order pre-integration at the extremes, rendered on the GPU and compared
 with closed forms or the reference integrator:
 - a slab longer than the volume (the whole ray shorter than one slab);
 - very small steps (1e-3 voxel: table precision and float accumulation along the ray);

@@ -53,8 +53,8 @@ uniform vec3 hovr_rayForward;
 uniform vec2 hovr_rayPixelCentre;
 uniform int hovr_rayPerspective;
 
-// The texel c of a texture with nearest filtering, read at its centre: on llvmpipe this costs
-// less than texelFetch (a tenth less time per MIP frame), and the texel is the same.
+// The texel c of a texture with nearest filtering, read at its centre: on software renderers
+// such as llvmpipe this costs less than texelFetch, and the texel is the same.
 // invSize: 1 / the texture's size, computed once per ray.
 vec4 hovr_texel(sampler3D s, vec3 invSize, ivec3 c)
 {
@@ -213,9 +213,9 @@ float hovr_interiorExtremum(vec4 k)
 // corners are loaded: the larger (smaller) end point or interior extremum of its cubic. The
 // interior is searched only when the cubic's Bernstein coefficients (whose hull holds it) can
 // beat both end points and beyond, the value the caller needs to beat. Only the one critical
-// point of the right kind is computed, and the cubic itself is evaluated there: on llvmpipe a
-// branch costs its instructions whether or not a fragment takes it, so this rarely taken one
-// is kept short (both critical points and trilinear samples there took 30% of a MIP frame).
+// point of the right kind is computed, and the cubic itself is evaluated there: where
+// fragments run in lockstep (llvmpipe among them) a branch costs its instructions whether or
+// not a fragment takes it, so this rarely taken one is kept short.
 float hovr_segmentExtremum(vec3 ua, vec3 ub, float beyond)
 {
   vec4 f = vec4(hovr_trilinear(ua), hovr_trilinear(mix(ua, ub, 1.0 / 3.0)),

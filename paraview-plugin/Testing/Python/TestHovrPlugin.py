@@ -41,9 +41,9 @@ from vtkmodules import vtkRenderingVolumeOpenGL2  # noqa: F401
 # pixels. VTK's vtkImageDifference is not used: it forgives 105 levels per pixel and shifts of
 # a pixel, so it cannot tell this scene's Stock image from the first-order one.
 #
-# Baseline tolerance: renders on the machine kind that made the baseline repeat exactly (0, in
-# pvbatch and through a pvserver alike); llvmpipe on another CPU or LLVM version may round some
-# pixels differently by a few levels (not measured), which the tolerance absorbs. Stock
+# Baseline tolerance: renders with the CPU and LLVM version that made the baseline repeat
+# exactly (0, in pvbatch and through a pvserver alike); llvmpipe on another CPU or LLVM version
+# may round some pixels differently by a few levels, which the tolerance absorbs. Stock
 # compositing of the same scene differs by about 18, a half-float table by about 0.07; in
 # second order, 128 iterations and a float table instead of 64 and half floats by about 0.17.
 BASELINE_TOLERANCE = 2.0

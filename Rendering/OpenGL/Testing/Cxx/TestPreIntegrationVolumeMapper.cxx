@@ -43,9 +43,9 @@ int TestPreIntegrationVolumeMapper(int argc, char* argv[])
 
   // The 8-bit window image against the baseline, with VTK's default threshold 0.15:
   // vtkImageDifference forgives small per-pixel differences and shifts of up to 2 pixels, so
-  // llvmpipe's variations between CPUs (ENVIRONMENT.md) score 0; stock compositing at the
-  // same step scores 1.16 (measured), a broken table or segment rule more. The float checks
-  // below are the precise ones.
+  // llvmpipe's rounding differences between CPUs score 0; stock compositing at the same step
+  // scores about 1.16, a broken table or segment rule more. The float checks below are the
+  // precise ones.
   const int regression = vtkRegressionTestImageThreshold(view.GetWindow(), 0.15);
   check(regression != vtkTesting::FAILED, "image matches the baseline");
 
@@ -77,9 +77,9 @@ int TestPreIntegrationVolumeMapper(int argc, char* argv[])
             << "RMSE vs reference, step 1/4 voxel: preint1 " << preintFineRMSE << ", stock "
             << stockFineRMSE << ", stock/preint1 " << stockFineRMSE / preintFineRMSE << "\n";
 
-  // Measured on this machine: step 1: preint1 0.0457, stock 0.0775 (ratio 1.70); step 1/4:
-  // preint1 0.0070, stock 0.0159 (2.25). The bounds leave ~20% for llvmpipe differences
-  // between CPUs. Point sampling (a regression to stock) fails both the bound and the ratio;
+  // Typical values: step 1: preint1 0.0457, stock 0.0775 (ratio 1.70); step 1/4: preint1
+  // 0.0070, stock 0.0159 (2.25). The bounds leave ~20% for llvmpipe differences between CPUs.
+  // Point sampling (a regression to stock) fails both the bound and the ratio;
   // the linear-segment model (first order) cannot follow the cubic trilinear profile within
   // a voxel-long segment, hence the 0.046 at one voxel.
   check(preintRMSE >= 0.0 && preintRMSE < 0.055, "preint1 RMSE at 1 voxel below 0.055");

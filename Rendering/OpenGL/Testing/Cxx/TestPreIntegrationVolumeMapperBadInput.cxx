@@ -326,10 +326,10 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
 
   // Every scalar type against its own reference, at a quarter-voxel step where the method
   // error is small, and against the float data's image, for both orders (second order is as
-  // accurate at this step, the same bounds hold). Measured on this machine: RMSE vs
-  // reference 0.0053-0.0074 for every type (the method error; 8-bit data is uploaded in 16
-  // bits, which llvmpipe interpolates at 16-bit precision: in its own 8-bit texture uint8 gave
-  // 0.0092); RMSE vs the float image 2e-7 (double), 4e-7 (int), 1.7e-5 (16-bit: quantisation),
+  // accurate at this step, the same bounds hold). Typical values: RMSE vs reference
+  // 0.0053-0.0074 for every type (the method error; 8-bit data is uploaded in 16 bits, which
+  // llvmpipe interpolates at 16-bit precision: in its own 8-bit texture uint8 reaches 0.0092);
+  // RMSE vs the float image 2e-7 (double), 4e-7 (int), 1.7e-5 (16-bit: quantisation),
   // 0.003 (8-bit: quantisation). A wrong raw-to-data mapping moves the spike shells: errors of
   // 1e-3 and more against the reference.
   struct TypeCase

@@ -221,8 +221,8 @@ private:
 };
 
 // The CPU ground truth for the same scene.
-// Its ScalarTolerance is 1/16 instead of 1/64: 4x faster, and it moves the ML spike image by
-// an RMSE of 5e-5 (measured), 100x below the errors the tests bound.
+// Its ScalarTolerance is 1/16 instead of 1/64: a quarter of the integration pieces, and it
+// moves the ML spike image by an RMSE of about 5e-5, 100x below the errors the tests bound.
 inline vtkSmartPointer<vtkImageData> RenderReference(vtkImageData* volume,
   vtkVolumeProperty* property,
   vtkCamera* camera,
