@@ -123,6 +123,81 @@ inline void EvaluateNodes(const std::vector<Node>& nodes, double x, int n, doubl
   }
   InterpolateNodes(*(upper - 1), *upper, x, n, out);
 }
+
+// Appends to curve a piecewise-linear RGB curve through color's own colours over its nodes
+// (colour spaces other than RGB).
+void FollowColorCurve(
+  vtkColorTransferFunction* color, const std::vector<Node>& nodes, std::vector<Node>& curve)
+{
+  const bool step = color->GetColorSpace() == VTK_CTF_STEP;
+  std::vector<double> ends, middles;
+  if (color->GetColorSpace() == VTK_CTF_LAB_CIEDE2000)
+  {
+    // Its path depends on the range of the table asked for: the nodes' whole range, as a
+    // colour map over the data, in one call (each computes the path anew).
+    const double x0 = nodes.front().X, x1 = nodes.back().X;
+    const int n = 1024 * static_cast<int>(nodes.size() - 1);
+    ends.resize(3 * (n + 1));
+    color->GetTable(x0, x1, n + 1, ends.data());
+    for (int k = 0; k <= n; ++k)
+    {
+      const double x = k == 0 ? x0 : (k == n ? x1 : x0 + (x1 - x0) * k / n);
+      curve.push_back(Node{ x, { ends[3 * k], ends[3 * k + 1], ends[3 * k + 2] }, 0.5, 0.0 });
+    }
+    return;
+  }
+  for (size_t i = 0; i + 1 < nodes.size(); ++i)
+  {
+    const double x0 = nodes[i].X, x1 = nodes[i + 1].X;
+    if (step)
+    {
+      // VTK gives (x0, x1] the colour of x1: a jump just after each node.
+      double rgb0[3], rgb1[3];
+      color->GetColor(x0, rgb0);
+      color->GetColor(x1, rgb1);
+      curve.push_back(Node{ x0, { rgb0[0], rgb0[1], rgb0[2] }, 0.5, 0.0 });
+      curve.push_back(Node{ std::nextafter(x0, x1), { rgb1[0], rgb1[1], rgb1[2] }, 0.5, 0.0 });
+      continue;
+    }
+    // Uniform pieces, doubled until every piece's midpoint lies within 1e-6 of its chord
+    // (one GetTable call per try: CIEDE2000 computes its path once per call).
+    int n = 64;
+    for (;;)
+    {
+      ends.resize(3 * (n + 1));
+      color->GetTable(x0, x1, n + 1, ends.data());
+      if (n >= 16384)
+      {
+        break;
+      }
+      const double h = (x1 - x0) / n;
+      middles.resize(3 * n);
+      color->GetTable(x0 + 0.5 * h, x1 - 0.5 * h, n, middles.data());
+      double deviation = 0.0;
+      for (int k = 0; k < n; ++k)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          deviation = std::max(deviation,
+            std::abs(middles[3 * k + c] - 0.5 * (ends[3 * k + c] + ends[3 * k + 3 + c])));
+        }
+      }
+      if (!(deviation > 1e-6))
+      {
+        break;
+      }
+      n *= 2;
+    }
+    for (int k = 0; k < n; ++k)
+    {
+      const double x = k == 0 ? x0 : x0 + (x1 - x0) * k / n;
+      curve.push_back(Node{ x, { ends[3 * k], ends[3 * k + 1], ends[3 * k + 2] }, 0.5, 0.0 });
+    }
+  }
+  double rgb[3];
+  color->GetColor(nodes.back().X, rgb);
+  curve.push_back(Node{ nodes.back().X, { rgb[0], rgb[1], rgb[2] }, 0.5, 0.0 });
+}
 }
 
 class vtkVolumeTransferFunctionSampler::vtkInternals
@@ -130,6 +205,9 @@ class vtkVolumeTransferFunctionSampler::vtkInternals
 public:
   std::vector<Node> OpacityNodes;
   std::vector<Node> ColorNodes;
+  // The colour as evaluated: ColorNodes in RGB; in other colour spaces a piecewise-linear RGB
+  // curve through the function's own colours (RefineColor).
+  std::vector<Node> ColorCurve;
   std::vector<double> Positions; // distinct node positions of both functions, ascending
   double InverseUnitDistance = 1.0;
   double MaximumOpacity = 1.0;
@@ -262,6 +340,15 @@ bool vtkVolumeTransferFunctionSampler::Prepare()
   }
   std::sort(in.Positions.begin(), in.Positions.end());
   in.Positions.erase(std::unique(in.Positions.begin(), in.Positions.end()), in.Positions.end());
+  in.ColorCurve = in.ColorNodes;
+  if (hasColor && this->Color->GetColorSpace() != VTK_CTF_RGB && in.ColorNodes.size() > 1)
+  {
+    // Lab, Diverging, HSV and CIEDE2000 interpolate along curves in RGB, and Step jumps:
+    // follow VTK's own colours, so that every method shows what VTK's mappers and ParaView
+    // show.
+    in.ColorCurve.clear();
+    FollowColorCurve(this->Color, in.ColorNodes, in.ColorCurve);
+  }
   in.InverseUnitDistance = 1.0 / this->ScalarOpacityUnitDistance;
   in.MaximumOpacity = this->MaximumOpacity;
   in.PreparedTime = now;
@@ -294,7 +381,7 @@ void vtkVolumeTransferFunctionSampler::Evaluate(double s, double rgbTau[4]) cons
     rgbTau[0] = rgbTau[1] = rgbTau[2] = rgbTau[3] = 0.0;
     return;
   }
-  EvaluateNodes(this->Internals->ColorNodes, s, 3, rgbTau);
+  EvaluateNodes(this->Internals->ColorCurve, s, 3, rgbTau);
   rgbTau[3] = this->EvaluateExtinction(s);
 }
 

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <vector>
 
 namespace
 {
@@ -78,6 +79,72 @@ int TestVolumeTransferFunctionSampler(int, char*[])
           std::max(brute, sampler->EvaluateOpacity(std::min(a, b) + std::abs(b - a) * k / 2000.0));
       }
       Check(sampler->GetMaximumOpacity(a, b) >= brute - 1e-15, "maximum opacity bounds samples");
+    }
+  }
+
+  // Colour spaces other than RGB (random nodes, midpoints and sharpness): the colour follows
+  // vtkColorTransferFunction's table everywhere, and the smallest feature stays that of the
+  // function's own nodes.
+  for (int space = VTK_CTF_HSV; space <= VTK_CTF_STEP; ++space)
+  {
+    for (int trial = 0; trial < 5; ++trial)
+    {
+      vtkNew<vtkColorTransferFunction> color;
+      color->SetColorSpace(space);
+      double x = 0.0;
+      for (int n = 0; n < 5; ++n)
+      {
+        x += 0.5 + 10.0 * next();
+        const double sharpness = trial % 2 == 0 ? 0.0 : 0.8 * next();
+        color->AddRGBPoint(x, next(), next(), next(), 0.1 + 0.8 * next(), sharpness);
+      }
+      vtkNew<vtkPiecewiseFunction> opacity;
+      double first[6];
+      color->GetNodeValue(0, first);
+      opacity->AddPoint(first[0], 0.5); // adds no gap of its own
+      vtkNew<vtkVolumeTransferFunctionSampler> sampler;
+      sampler->SetColor(color);
+      sampler->SetScalarOpacity(opacity);
+      Check(sampler->Prepare(), "Prepare in another colour space");
+      // VTK's colours in one call over the nodes' range (CIEDE2000 computes its path once
+      // per call, for the range asked for).
+      const int samples = 16385;
+      std::vector<double> table(3 * samples);
+      double range[2];
+      color->GetRange(range);
+      color->GetTable(range[0], range[1], samples, table.data());
+      double worst = 0.0;
+      for (int i = 0; i < samples; ++i)
+      {
+        const double s = range[0] + (range[1] - range[0]) * i / (samples - 1.0);
+        double rgbTau[4];
+        sampler->Evaluate(s, rgbTau);
+        for (int c = 0; c < 3; ++c)
+        {
+          worst = std::max(worst, std::abs(rgbTau[c] - table[3 * i + c]));
+        }
+      }
+      // A tenth of a 1/255 colour level: the curve's pieces meet VTK's colours at their
+      // ends and midpoints, and stray a little where clamping to [0, 1] bends the curve.
+      // CIEDE2000's path is computed per table, of steps finer than the curve's pieces: there
+      // the curve is followed to 0.03.
+      const double tolerance =
+        space == VTK_CTF_STEP ? 1e-12 : (space == VTK_CTF_LAB_CIEDE2000 ? 0.03 : 4e-4);
+      if (!(worst < tolerance))
+      {
+        std::cerr << "colour space " << space << ", trial " << trial << ": " << worst << "\n";
+      }
+      Check(worst < tolerance, "colour follows VTK's in its colour space");
+      double smallest = VTK_DOUBLE_MAX;
+      for (int n = 1; n < color->GetSize(); ++n)
+      {
+        double a[6], b[6];
+        color->GetNodeValue(n - 1, a);
+        color->GetNodeValue(n, b);
+        smallest = std::min(smallest, b[0] - a[0]);
+      }
+      Check(std::abs(sampler->GetSmallestFeature() - smallest) < 1e-12,
+        "the smallest feature is that of the nodes, not of the refined curve");
     }
   }
 
