@@ -332,6 +332,33 @@ def _fmt(value):
     return value
 
 
+# Each hovr method and the VTK method it is measured against in the demo's headline.
+COUNTERPARTS = {"preint1": "stock", "preint2": "stock", "iso-analytic": "iso-stock",
+                "mip-analytic": "mip-stock", "minip-analytic": "minip-stock",
+                "objectorder": "fixedpoint", "objectorder-point": "fixedpoint"}
+
+
+def format_headline(rows, step=1.0):
+    """One line per dataset and hovr method: its error and time against its VTK counterpart's
+    at the same step (``step`` voxels): the ratios a user weighs."""
+    lines = ["%-10s %-16s %-12s %10s %10s %9s %9s" % (
+        "dataset", "hovr method", "VTK method", "hovr RMSE", "VTK RMSE", "RMSE/VTK",
+        "time/VTK")]
+    for row in rows:
+        other = COUNTERPARTS.get(row["method"])
+        if other is None or row["step"] != step:
+            continue
+        base = next((r for r in rows if r["dataset"] == row["dataset"] and r["method"] == other
+                     and r["step"] == step), None)
+        if base is None:
+            continue
+        lines.append("%-10s %-16s %-12s %10.5f %10.5f %9s %9s" % (
+            row["dataset"], row["method"], other, row["rmse"], base["rmse"],
+            "%.2f" % (row["rmse"] / base["rmse"]) if base["rmse"] > 0 else "-",
+            "%.2f" % (row["median_ms"] / base["median_ms"]) if base["median_ms"] > 0 else "-"))
+    return "\n".join(lines) + "\n"
+
+
 def format_summary(rows, skipped=()):
     with_baseline = any("baseline" in row for row in rows)
     lines = ["%-10s %-9s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",

@@ -9,6 +9,7 @@ import json
 import math
 import os
 import sys
+import time
 
 from .io import HovrError
 
@@ -57,6 +58,7 @@ def _count(text):
 
 
 def build_parser():
+    from .appearance import VIEWS
     from .io import RAW_TYPES
     from .methods import METHODS
     parser = argparse.ArgumentParser(prog="hovr", description=(
@@ -81,14 +83,35 @@ def build_parser():
                         help="raw input: voxel spacing (default 1 1 1)")
     render.add_argument("--header-bytes", type=_count, metavar="N", help="raw input: bytes "
                         "before the data (default 0: the file holds exactly the data)")
-    render.add_argument("--tf", required=True, help="ParaView transfer-function preset JSON "
-                        "with RGBPoints and Points")
+    render.add_argument("--tf", help="ParaView transfer-function preset JSON with RGBPoints "
+                        "and Points in data units (default: --colormap and --opacity)")
+    render.add_argument("--colormap", metavar="NAME|FILE", help="colours from a ParaView "
+                        "colour preset, by name (e.g. 'Viridis (matplotlib)', 'Cool to Warm') "
+                        "or JSON file, rescaled to the data range in its ColorSpace; replaces "
+                        "the colours of --tf (default without --tf: black to white)")
+    render.add_argument("--opacity", metavar="SPEC", help="opacity over the data range: ramp, "
+                        "ramp-down, flat:A, F:A,F:A,... (F a fraction of the range) or a JSON "
+                        "file with opacity Points (rescaled); replaces the opacity of --tf "
+                        "(default without --tf: ramp-down for minip, ramp otherwise)")
+    render.add_argument("--shade", action="store_true", help="light the volume with a "
+                        "headlight (isosurfaces with the exact gradient; composite with the "
+                        "methods that shade; the reference shades isosurfaces only)")
     render.add_argument("--opacity-unit-distance", type=_positive, default=1.0, metavar="U",
                         help="distance in world units over which the opacities hold "
                         "(default 1)")
     render.add_argument("--camera", help="camera JSON {position, focal_point, view_up, "
-                        "parallel_projection, parallel_scale, view_angle}; default: an oblique "
-                        "view of the whole volume")
+                        "parallel_projection, parallel_scale, view_angle}; default: --view")
+    render.add_argument("--view", choices=sorted(VIEWS), default="iso", help="view direction "
+                        "(+x looks along +x, as ParaView's buttons; write --view=-x for the minus "
+                        "views), framing the whole volume (default iso: an oblique view)")
+    render.add_argument("--zoom", type=_positive, default=1.0, help="closer by this factor "
+                        "(default 1)")
+    render.add_argument("--azimuth", type=float, default=0.0, metavar="DEG",
+                        help="turn the view about the view-up axis through the centre")
+    render.add_argument("--elevation", type=float, default=0.0, metavar="DEG",
+                        help="turn the view up or down about the centre")
+    render.add_argument("--parallel", action="store_true", help="parallel projection for "
+                        "the view (always for the methods that draw only parallel ones)")
     render.add_argument("--size", nargs=2, type=_size, default=[512, 512], metavar=("W", "H"),
                         help="image size (default 512 512)")
     render.add_argument("--method", default="preint1", choices=sorted(METHODS),
@@ -164,12 +187,9 @@ def cmd_render(args):
     image = hb.load_volume(spec)
     for warning in hio.check_volume(image):
         warn(warning)
-    color, opacity, _ = hio.read_transfer_function(args.tf)
-    prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
-    # Parallel-only methods get the default view in parallel projection.
-    camera = hio.read_camera(args.camera) if args.camera else hio.default_camera(
-        image.GetBounds(), parallel=method.parallel_only)
     low, high = image.GetPointData().GetScalars().GetFiniteRange()
+    prop = volume_property(args, blend, low, high)
+    camera = render_camera(args, image, method)
     inside = 0
     for k, value in enumerate(args.isovalue or []):
         if not math.isfinite(value):
@@ -187,12 +207,18 @@ def cmd_render(args):
     if method.uses_step:
         scene.step_length(args.step)  # before any work: a step too small is an error
     renderer = hm.Renderer()
+    start = time.perf_counter()
     try:
         result = renderer.render(args.method, scene, args.step, args.repeat)
     finally:
         renderer.close()
+    seconds = time.perf_counter() - start
     if args.output:
         hio.write_image(result.image, args.output)
+    print("hovr render: %s, %s, %dx%d, %.0f ms%s" % (
+        args.output or "no --output, nothing written", args.method, args.size[0], args.size[1],
+        1000.0 * seconds, " (%d frames)" % (args.repeat + 1) if args.repeat else ""),
+        file=sys.stderr)
     line = result.summary(args.method, args.step) if args.repeat > 0 else None
     if args.reference:
         reference = hio.read_vti(args.reference)
@@ -204,6 +230,52 @@ def cmd_render(args):
     if line is not None:
         print(json.dumps(line))
     return 0
+
+
+def volume_property(args, blend, low, high):
+    """The volume property of --tf, --colormap, --opacity, --opacity-unit-distance and
+    --shade over the data range [low, high]."""
+    from . import appearance as ha
+    from . import io as hio
+    color = opacity = None
+    if args.tf:
+        color, opacity, _ = hio.read_transfer_function(
+            args.tf, need_opacity=args.opacity is None)
+    if not high > low:
+        high = low + max(1.0, abs(low) * 1e-6)  # flat data: any non-empty range
+    if args.colormap:
+        color = ha.colormap(args.colormap, low, high)
+    elif color is None:
+        color = ha.grey_ramp(low, high)
+    if args.opacity:
+        opacity = ha.opacity(args.opacity, low, high)
+    elif opacity is None:
+        opacity = ha.opacity("ramp-down" if blend == "minip" else "ramp", low, high)
+    prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
+    if args.shade:
+        ha.shade(prop)
+        if blend == "composite" and args.method == "reference":
+            warn("the reference integrator shades isosurfaces only; this composite image is "
+                 "not lit")
+    return prop
+
+
+def render_camera(args, image, method):
+    """The camera of --camera, or of --view, --zoom, --azimuth, --elevation and --parallel;
+    parallel-only methods get the view in parallel projection."""
+    from . import appearance as ha
+    from . import io as hio
+    turned = args.view != "iso" or args.zoom != 1.0 or args.azimuth or args.elevation
+    if args.camera:
+        if turned or args.parallel:
+            raise HovrError("--camera gives the whole view: it does not combine with --view, "
+                            "--zoom, --azimuth, --elevation or --parallel")
+        return hio.read_camera(args.camera)
+    parallel = args.parallel or method.parallel_only
+    if not turned:
+        return hio.default_camera(image.GetBounds(), parallel=parallel)
+    return ha.named_camera(image.GetBounds(), args.view, args.zoom, args.azimuth,
+                           args.elevation, parallel=parallel)
 
 
 def cmd_bench(args):
@@ -221,9 +293,11 @@ def cmd_demo(args):
         raise HovrError("demo configuration not found: %s" % config)
     rows, summary = hb.run(config, args.output,
                            log=lambda message: print(message, file=sys.stderr))
-    print("hovr demo: %d runs; report in %s (results.csv, tradeoff.png, images/)"
-          % (len(rows), os.path.abspath(args.output)))
     sys.stdout.write(summary)
+    print("\nhovr demo: %d runs; report in %s (results.csv, summary.txt, tradeoff.png, "
+          "<dataset>_side_by_side.png, images/). At 1 voxel, against VTK:"
+          % (len(rows), os.path.abspath(args.output)))
+    sys.stdout.write(hb.format_headline(rows))
     return 0 if rows else 1
 
 

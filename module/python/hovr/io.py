@@ -25,6 +25,20 @@ class HovrError(Exception):
     """A user-facing error: bad input, impossible settings."""
 
 
+# ParaView's ColorSpace names and vtkColorTransferFunction's.
+COLOR_SPACES = {"RGB": "RGB", "HSV": "HSV", "Lab": "Lab", "Lab/CIEDE2000": "LabCIEDE2000",
+                "CIELAB": "Lab", "Diverging": "Diverging", "Step": "Step"}
+
+
+def set_color_space(color, name, origin="preset"):
+    """Set a vtkColorTransferFunction's colour space from ParaView's ColorSpace name."""
+    vtk_name = COLOR_SPACES.get(name)
+    if vtk_name is None:
+        raise HovrError("%s: unknown ColorSpace %r (known: %s)" % (origin, name,
+                                                                   ", ".join(COLOR_SPACES)))
+    getattr(color, "SetColorSpaceTo" + vtk_name)()
+
+
 class _ErrorCatcher:
     """Collects the error messages a VTK object emits, instead of printing them."""
 
@@ -247,17 +261,20 @@ def read_json(path, what):
         raise HovrError("cannot read %s %s: %s" % (what, path, error)) from None
 
 
-def read_transfer_function(path):
+def read_transfer_function(path, need_opacity=True):
     """Read a ParaView transfer-function preset (an object or a list of them).
 
     Returns (vtkColorTransferFunction, vtkPiecewiseFunction, name) from the first preset that
     has both ``RGBPoints`` [x, r, g, b, ...] and ``Points`` [x, alpha, midpoint, sharpness,
-    ...]. Colours are interpolated in RGB; values outside the points take the end values.
+    ...]. Colours are interpolated in the preset's ``ColorSpace`` (default RGB) as ParaView
+    does; values outside the points take the end values. With ``need_opacity`` false, a
+    colour-only preset (as ParaView's colour maps are) gives None for the opacity.
     """
-    return transfer_function_from_preset(read_json(path, "transfer function"), path)
+    return transfer_function_from_preset(read_json(path, "transfer function"), path,
+                                         need_opacity)
 
 
-def transfer_function_from_preset(document, origin="preset"):
+def transfer_function_from_preset(document, origin="preset", need_opacity=True):
     presets = document if isinstance(document, list) else [document]
     for preset in presets:
         if not isinstance(preset, dict):
@@ -267,15 +284,15 @@ def transfer_function_from_preset(document, origin="preset"):
             continue
         if rgb is None:
             raise HovrError("%s: the preset has no colour 'RGBPoints'" % origin)
-        if points is None:
+        if points is None and need_opacity:
             raise HovrError("%s: the preset has no opacity 'Points' [x, alpha, midpoint, "
-                            "sharpness, ...]" % origin)
+                            "sharpness, ...]; a colour map alone takes --opacity" % origin)
         color = vtkColorTransferFunction()
-        color.SetColorSpaceToRGB()
+        set_color_space(color, preset.get("ColorSpace", "RGB"), origin)
         color.SetClamping(1)
-        opacity = vtkPiecewiseFunction()
-        opacity.SetClamping(1)
-        for values, stride, what in ((rgb, 4, "RGBPoints"), (points, 4, "Points")):
+        checked = ((rgb, 4, "RGBPoints"),) + (((points, 4, "Points"),) if points is not None
+                                              else ())
+        for values, stride, what in checked:
             if (not isinstance(values, list) or len(values) < stride or len(values) % stride
                     or not all(isinstance(v, (int, float)) and math.isfinite(v)
                                for v in values)):
@@ -283,11 +300,16 @@ def transfer_function_from_preset(document, origin="preset"):
                                 % (origin, what, stride))
         for i in range(0, len(rgb), 4):
             color.AddRGBPoint(*rgb[i:i + 4])
-        for i in range(0, len(points), 4):
-            x, alpha, midpoint, sharpness = points[i:i + 4]
-            if not 0.0 <= alpha <= 1.0:
-                raise HovrError("%s: opacity %g at %g is outside [0, 1]" % (origin, alpha, x))
-            opacity.AddPoint(x, alpha, midpoint, sharpness)
+        opacity = None
+        if points is not None:
+            opacity = vtkPiecewiseFunction()
+            opacity.SetClamping(1)
+            for i in range(0, len(points), 4):
+                x, alpha, midpoint, sharpness = points[i:i + 4]
+                if not 0.0 <= alpha <= 1.0:
+                    raise HovrError("%s: opacity %g at %g is outside [0, 1]"
+                                    % (origin, alpha, x))
+                opacity.AddPoint(x, alpha, midpoint, sharpness)
         return color, opacity, preset.get("Name", os.path.basename(str(origin)))
     raise HovrError("%s holds no transfer function (objects with 'RGBPoints' and 'Points')"
                     % origin)
