@@ -1,7 +1,7 @@
 """The reference integrator agrees with an independent fine-step integration (RMSE < 1e-3).
 
 The independent integrator below shares no code with hovr's C++: rays from the camera
-formulas of the README, its own box clipping and trilinear interpolation in numpy, the
+formulas of docs/cli.md, its own box clipping and trilinear interpolation in numpy, the
 transfer functions tabulated densely by VTK itself (vtkPiecewiseFunction::GetTable), and
 midpoint compositing with a fixed step of 1/128 of a voxel. It runs on the generated
 Marschner-Lobb volume always and on the shared volumes (neghip, fuel, bucky, headsq) when

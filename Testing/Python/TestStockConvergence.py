@@ -1,6 +1,6 @@
 """VTK's stock GPU ray caster converges to the reference integral as its step shrinks, and so
 does first-order pre-integration, faster: the GPU rays, texture coordinates and compositing
-match the reference's semantics (README, "hovr render" contract)."""
+match the reference's semantics (docs/cli.md, the "hovr render" contract)."""
 
 from hovr import methods as hm
 from hovrtesting import Checker, marschner_lobb_scene
