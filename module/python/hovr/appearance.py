@@ -76,13 +76,14 @@ def colormap(spec, low, high):
     return color
 
 
-def grey_ramp(low, high):
-    """Black at the lowest value to white at the highest."""
+def grey_ramp(low, high, inverted=False):
+    """Black at the lowest value to white at the highest (inverted: white to black, which
+    shows a minimum intensity projection's minima bright)."""
     color = vtkColorTransferFunction()
     color.SetColorSpaceToRGB()
     color.SetClamping(1)
-    color.AddRGBPoint(low, 0.0, 0.0, 0.0)
-    color.AddRGBPoint(high, 1.0, 1.0, 1.0)
+    color.AddRGBPoint(low, *((1.0, 1.0, 1.0) if inverted else (0.0, 0.0, 0.0)))
+    color.AddRGBPoint(high, *((0.0, 0.0, 0.0) if inverted else (1.0, 1.0, 1.0)))
     return color
 
 

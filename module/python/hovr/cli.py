@@ -88,7 +88,8 @@ def build_parser():
     render.add_argument("--colormap", metavar="NAME|FILE", help="colours from a ParaView "
                         "colour preset, by name (e.g. 'Viridis (matplotlib)', 'Cool to Warm') "
                         "or JSON file, rescaled to the data range in its ColorSpace; replaces "
-                        "the colours of --tf (default without --tf: black to white)")
+                        "the colours of --tf (default without --tf: black to white; white to black "
+                        "for minip)")
     render.add_argument("--opacity", metavar="SPEC", help="opacity over the data range: ramp, "
                         "ramp-down, flat:A, F:A,F:A,... (F a fraction of the range) or a JSON "
                         "file with opacity Points (rescaled); replaces the opacity of --tf "
@@ -246,7 +247,7 @@ def volume_property(args, blend, low, high):
     if args.colormap:
         color = ha.colormap(args.colormap, low, high)
     elif color is None:
-        color = ha.grey_ramp(low, high)
+        color = ha.grey_ramp(low, high, inverted=blend == "minip")
     if args.opacity:
         opacity = ha.opacity(args.opacity, low, high)
     elif opacity is None:
