@@ -1,0 +1,196 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "pqHovrVolumeBehavior.h"
+
+#include "pqApplicationCore.h"
+#include "pqRepresentation.h"
+#include "pqServerManagerModel.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkDataObject.h"
+#include "vtkNew.h"
+#include "vtkPVXMLElement.h"
+#include "vtkSMArrayListDomain.h"
+#include "vtkSMPVRepresentationProxy.h"
+#include "vtkSMProperty.h"
+#include "vtkSMPropertyGroup.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMPropertyIterator.h"
+#include "vtkSMProxy.h"
+
+#include <cstring>
+#include <string>
+
+namespace
+{
+// The representation type hovr adds, and the one ParaView's hints name.
+constexpr const char* HovrVolume = "hovr Volume";
+constexpr const char* StockVolume = "Volume";
+
+bool IsVolumeDecorator(vtkPVXMLElement* element)
+{
+  const char* name = element->GetName();
+  return name && std::strcmp(name, "PropertyWidgetDecorator") == 0 &&
+    std::strcmp(element->GetAttributeOrEmpty("type"), "GenericDecorator") == 0 &&
+    std::strcmp(element->GetAttributeOrEmpty("property"), "Representation") == 0 &&
+    std::strcmp(element->GetAttributeOrEmpty("value"), StockVolume) == 0 &&
+    !element->GetAttribute("hovr");
+}
+
+// A GenericDecorator like original but on value, marked as hovr's.
+vtkPVXMLElement* CopyDecorator(vtkPVXMLElement* original, const char* value)
+{
+  vtkPVXMLElement* copy = vtkPVXMLElement::New();
+  copy->SetName("PropertyWidgetDecorator");
+  for (const char* attribute : { "type", "mode", "property", "inverse", "index" })
+  {
+    if (const char* v = original->GetAttribute(attribute))
+    {
+      copy->AddAttribute(attribute, v);
+    }
+  }
+  copy->SetAttribute("value", value);
+  copy->AddAttribute("hovr", "1");
+  return copy;
+}
+
+// Turns element (a decorator on Representation == "Volume") into the same test on "Volume" or
+// "hovr Volume" (inverse: on neither): an Expression where the parent is one, else a
+// CompositeDecorator holding one.
+void Widen(vtkPVXMLElement* element, bool insideExpression)
+{
+  const bool inverse = std::strcmp(element->GetAttributeOrEmpty("inverse"), "1") == 0;
+  vtkPVXMLElement* stock = CopyDecorator(element, StockVolume);
+  vtkPVXMLElement* hovr = CopyDecorator(element, HovrVolume);
+  vtkPVXMLElement* expression = element;
+  if (insideExpression)
+  {
+    element->SetName("Expression");
+  }
+  else
+  {
+    element->SetAttribute("type", "CompositeDecorator");
+    expression = vtkPVXMLElement::New();
+    expression->SetName("Expression");
+    element->AddNestedElement(expression);
+    expression->Delete();
+  }
+  expression->SetAttribute("type", inverse ? "and" : "or");
+  element->SetAttribute("hovr", "1");
+  expression->AddNestedElement(stock);
+  expression->AddNestedElement(hovr);
+  stock->Delete();
+  hovr->Delete();
+}
+
+int WidenRecursively(vtkPVXMLElement* element, bool insideExpression)
+{
+  int changed = 0;
+  // The nested elements are read before any is changed: Widen adds children.
+  const unsigned int count = element->GetNumberOfNestedElements();
+  for (unsigned int i = 0; i < count; ++i)
+  {
+    vtkPVXMLElement* child = element->GetNestedElement(i);
+    if (IsVolumeDecorator(child))
+    {
+      Widen(child, insideExpression);
+      ++changed;
+    }
+    else if (!child->GetAttribute("hovr"))
+    {
+      const char* name = child->GetName();
+      changed += WidenRecursively(child, name && std::strcmp(name, "Expression") == 0);
+    }
+  }
+  return changed;
+}
+
+// Colours a representation switched to "hovr Volume" by its first point array, as ParaView's
+// vtkSMPVRepresentationProxy::SetRepresentationType does for "Volume".
+void OnRepresentationModified(vtkObject*, unsigned long, void* clientData, void*)
+{
+  auto* proxy = static_cast<vtkSMPVRepresentationProxy*>(clientData);
+  const char* type = vtkSMPropertyHelper(proxy, "Representation").GetAsString();
+  if (!type || std::strcmp(type, HovrVolume) != 0 || proxy->GetUsingScalarColoring())
+  {
+    return;
+  }
+  vtkSMProperty* colorArrayName = proxy->GetProperty("ColorArrayName");
+  auto* arrays = colorArrayName ? colorArrayName->FindDomain<vtkSMArrayListDomain>() : nullptr;
+  if (!arrays)
+  {
+    return;
+  }
+  for (unsigned int i = 0; i < arrays->GetNumberOfStrings(); ++i)
+  {
+    if (arrays->GetFieldAssociation(i) == vtkDataObject::POINT)
+    {
+      if (proxy->SetScalarColoring(arrays->GetString(i), vtkDataObject::POINT))
+      {
+        proxy->RescaleTransferFunctionToDataRange(true);
+        proxy->UpdateVTKObjects();
+      }
+      return;
+    }
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+pqHovrVolumeBehavior::pqHovrVolumeBehavior(QObject* parent)
+  : Superclass(parent)
+{
+}
+
+//------------------------------------------------------------------------------
+pqHovrVolumeBehavior::~pqHovrVolumeBehavior() = default;
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onStartup()
+{
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  QObject::connect(model,
+    &pqServerManagerModel::representationAdded,
+    this,
+    &pqHovrVolumeBehavior::onRepresentationAdded);
+  for (pqRepresentation* representation : model->findItems<pqRepresentation*>())
+  {
+    this->onRepresentationAdded(representation);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onShutdown() {}
+
+//------------------------------------------------------------------------------
+int pqHovrVolumeBehavior::WidenVolumeDecorators(vtkPVXMLElement* hints)
+{
+  return hints ? WidenRecursively(hints, false) : 0;
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onRepresentationAdded(pqRepresentation* representation)
+{
+  auto* proxy = vtkSMPVRepresentationProxy::SafeDownCast(representation->getProxy());
+  // Only the representations that offer "hovr Volume" (image data) change.
+  if (!proxy || !proxy->GetProperty("HovrIntegration"))
+  {
+    return;
+  }
+  for (size_t i = 0; i < proxy->GetNumberOfPropertyGroups(); ++i)
+  {
+    WidenVolumeDecorators(proxy->GetPropertyGroup(i)->GetHints());
+  }
+  vtkNew<vtkSMPropertyIterator> properties;
+  properties->SetProxy(proxy);
+  for (properties->Begin(); !properties->IsAtEnd(); properties->Next())
+  {
+    WidenVolumeDecorators(properties->GetProperty()->GetHints());
+  }
+  if (vtkSMProperty* type = proxy->GetProperty("Representation"))
+  {
+    vtkNew<vtkCallbackCommand> callback;
+    callback->SetCallback(&OnRepresentationModified);
+    callback->SetClientData(proxy);
+    type->AddObserver(vtkCommand::ModifiedEvent, callback);
+  }
+}

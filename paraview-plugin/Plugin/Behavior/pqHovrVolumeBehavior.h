@@ -1,0 +1,51 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   pqHovrVolumeBehavior
+ * @brief   makes "hovr Volume" behave like ParaView's "Volume" in the GUI
+ *
+ * ParaView's panel and representation switch treat the representation named "Volume"
+ * specially: the "Volume Rendering" group (blend mode, opacity unit distance, shading,
+ * isovalues, cropping) is shown only for it, surface-only properties (point size, line width,
+ * textures, backface styling) are hidden for it, and switching to it colours by the active
+ * point scalars. This behaviour, started with the GUI, gives "hovr Volume" the same:
+ *   - every panel decorator of an image representation that tests Representation == "Volume"
+ *     is widened to "Volume" or "hovr Volume" (and "not Volume" to "neither"), in the proxy's
+ *     hints, before its panel is built;
+ *   - switching a representation to "hovr Volume" colours it by its first point array, with
+ *     the transfer functions rescaled to the data range, as ParaView does for "Volume".
+ */
+#ifndef pqHovrVolumeBehavior_h
+#define pqHovrVolumeBehavior_h
+
+#include <QObject>
+
+class pqRepresentation;
+class vtkPVXMLElement;
+
+class pqHovrVolumeBehavior : public QObject
+{
+  Q_OBJECT
+  using Superclass = QObject;
+
+public:
+  pqHovrVolumeBehavior(QObject* parent = nullptr);
+  ~pqHovrVolumeBehavior() override;
+
+  void onStartup();
+  void onShutdown();
+
+  /**
+   * Widens the decorators on Representation == "Volume" found in hints (recursively) to
+   * include "hovr Volume"; returns how many it changed. Elements it made are marked and left
+   * alone on a second pass.
+   */
+  static int WidenVolumeDecorators(vtkPVXMLElement* hints);
+
+private Q_SLOTS:
+  void onRepresentationAdded(pqRepresentation* representation);
+
+private:
+  Q_DISABLE_COPY(pqHovrVolumeBehavior)
+};
+
+#endif
