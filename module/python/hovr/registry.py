@@ -1,0 +1,303 @@
+"""The rendering methods hovr measures: the Method classes, their registry METHODS and the
+blend modes they render.
+
+A method says what it is and how it renders, through hooks the Renderer (hovr.renderer) calls
+without knowing the method: ``render`` picks how the method is rendered (drawn in the shared
+window, or computed off-screen), ``make_mapper`` / ``make_algorithm`` build what draws or
+computes the image, ``count_samples`` and ``statistics`` report its cost. Adding a method
+means adding one entry to ``METHODS``.
+"""
+
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+from . import hovrRenderingCore as core
+from . import hovrRenderingOpenGL as gl
+from .io import HovrError
+
+
+# Blend modes by name, with vtkVolumeMapper's values; the arrays hovr render adds for them.
+BLEND_MODES = {"composite": 0, "mip": 1, "minip": 2, "iso": 5}
+BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
+FLOAT_MAX = 3.4028234663852886e38
+
+
+class Method:
+    """A rendering method: its name, what it is, and how it renders. ``kind`` "gpu": a
+    vtkVolumeMapper drawn in the shared window and read back from it (VTK's CPU mappers too);
+    "cpu": an image algorithm computed off-screen (``make_algorithm``)."""
+
+    kind = "gpu"
+    uses_step = True
+    parallel_only = False  # renders parallel projections only (an error for perspective)
+    description = ""
+    blend = "composite"  # the blend mode the method renders; None: any (the reference)
+    threads = 0  # the thread count it is pinned to; 0: the default
+
+    def __init__(self, name, description):
+        self.name = name
+        self.description = description
+
+    def render(self, renderer, scene, step, repeat):
+        """Render ``scene`` through ``renderer`` (a hovr.renderer.Renderer): drawn in its
+        window, alone in the interleaved rounds."""
+        return renderer.render_interleaved([(self, step)], scene, repeat)[0]
+
+    def make_mapper(self):
+        """The vtkVolumeMapper that draws the method in the window; None for a method that
+        computes its image off-screen."""
+        raise NotImplementedError
+
+    def make_algorithm(self, scene):
+        """The image algorithm, set up for ``scene``, that computes the method's image
+        off-screen and counts its samples (GetNumberOfSamples)."""
+        raise NotImplementedError
+
+    def check_scene(self, scene):
+        """Raise HovrError when the method cannot draw ``scene`` right. Every method but the
+        reference stores the volume in float (GPU textures, the CPU casters' copies)."""
+        low, high = scene.image.GetPointData().GetScalars().GetFiniteRange()
+        if max(abs(low), abs(high)) > FLOAT_MAX:
+            raise HovrError("the scalar range [%g, %g] exceeds float range, in which %s stores "
+                            "the volume; rescale the values" % (low, high, self.name))
+
+    def count_samples(self, rays, scene, step):
+        """The samples a frame takes along ``rays`` (a prepared vtkCameraRayModel of the
+        scene): one every ``step`` voxels inside the volume."""
+        return rays.CountFixedStepSamples(scene.image, scene.step_length(step))
+
+    def statistics(self, mapper):
+        """What the mapper (or the algorithm) reports after a frame, for the result's row."""
+        return {}
+
+    def set_threads(self, mapper, threads):
+        """Run on ``threads`` threads (0: the default): vtkSMPTools' count."""
+        from vtkmodules.vtkCommonCore import vtkSMPTools
+        vtkSMPTools.Initialize(threads)
+
+
+class ThreadedMethod(Method):
+    """A method pinned to a number of threads, named ``<method>/<threads>t``."""
+
+    def __init__(self, method, threads):
+        super().__init__("%s/%dt" % (method.name, threads), method.description)
+        self.method = method
+        self.threads = threads
+        for attribute in ("kind", "uses_step", "parallel_only", "blend"):
+            setattr(self, attribute, getattr(method, attribute))
+
+    def render(self, renderer, scene, step, repeat):
+        # The wrapped method's way of rendering, run as this method: with its name and threads.
+        return type(self.method).render(self, renderer, scene, step, repeat)
+
+    def make_mapper(self):
+        return self.method.make_mapper()
+
+    def make_algorithm(self, scene):
+        return self.method.make_algorithm(scene)
+
+    def statistics(self, mapper):
+        return self.method.statistics(mapper)
+
+    def check_scene(self, scene):
+        self.method.check_scene(scene)
+
+    def count_samples(self, rays, scene, step):
+        return self.method.count_samples(rays, scene, step)
+
+    def set_threads(self, mapper, threads):
+        self.method.set_threads(mapper, threads)
+
+
+class StockMethod(Method):
+    def make_mapper(self):
+        mapper = vtkOpenGLGPUVolumeRayCastMapper()
+        mapper.SetAutoAdjustSampleDistances(0)
+        return mapper
+
+
+class PreIntegrationMethod(Method):
+    def __init__(self, name, description, integration):
+        super().__init__(name, description)
+        self.integration = integration
+
+    def make_mapper(self):
+        mapper = gl.vtkPreIntegrationVolumeMapper()
+        mapper.SetIntegration(self.integration)
+        return mapper
+
+    def statistics(self, mapper):
+        table = mapper.GetActiveTable()
+        sizes = [table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize()]
+        sizer = mapper.GetTableSizer()
+        return {"table_size": "x".join(str(v) for v in sizes[:3 if self.integration == 2 else 2]),
+                "table_sizing_ms": 1000.0 * sizer.GetLastChooseTime()
+                if mapper.GetTableSize() == 0 else 0.0,
+                "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
+                "table_on_gpu": bool(mapper.GetLastTableBuiltOnGPU()),
+                "table_builds": table.GetBuildCount(),
+                "table_gpu_bytes": mapper.GetTableTextureMemorySize()}
+
+
+class AnalyticMethod(Method):
+    """vtkAnalyticVolumeMapper: analytic (exact) or VTK's stock isosurface and projections."""
+
+    def __init__(self, name, description, blend, analytic):
+        super().__init__(name, description)
+        self.blend = blend
+        self.analytic = analytic
+
+    def make_mapper(self):
+        mapper = gl.vtkAnalyticVolumeMapper()
+        mapper.SetMethod(mapper.ANALYTIC if self.analytic else mapper.STOCK)
+        mapper.SetBlendMode(BLEND_MODES[self.blend])
+        mapper.SetAutoAdjustSampleDistances(0)
+        return mapper
+
+    def count_samples(self, rays, scene, step):
+        """The analytic mappers visit cells instead of sampling: the cells the rays cross."""
+        if not self.analytic:
+            return super().count_samples(rays, scene, step)
+        return rays.CountCellVisits(scene.image)
+
+    def statistics(self, mapper):
+        if not self.analytic:
+            return {}
+        return {"block_gpu_bytes": mapper.GetBlockTextureMemorySize(),
+                "corner_gpu_bytes": mapper.GetCornerTextureMemorySize()}
+
+
+class FixedPointMethod(Method):
+    """VTK's CPU ray caster, drawn in the window like the GPU mappers."""
+
+    def make_mapper(self):
+        from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+        mapper = vtkFixedPointVolumeRayCastMapper()
+        mapper.SetAutoAdjustSampleDistances(0)
+        mapper.SetLockSampleDistanceToInputSpacing(0)
+        mapper.SetImageSampleDistance(1.0)
+        return mapper
+
+    def check_scene(self, scene):
+        super().check_scene(scene)
+        # Its integer copy of the volume turns NaN into arbitrary values.
+        if any("NaN" in warning for warning in scene.warnings):
+            raise HovrError("%s cannot render NaN values (VTK's CPU ray caster maps them to "
+                            "arbitrary ones); replace them by a value the transfer function "
+                            "makes transparent" % self.name)
+
+    def set_threads(self, mapper, threads):
+        import os
+        mapper.SetNumberOfThreads(threads or os.cpu_count() or 1)
+
+
+class ReferenceMethod(Method):
+    """vtkVolumeReferenceIntegrator: the ground truth, computed off-screen in double for any
+    blend mode, with a step of its own."""
+
+    kind = "cpu"
+    uses_step = False
+    blend = None
+
+    def render(self, renderer, scene, step, repeat):
+        return renderer.render_offline(self, scene, step, repeat)
+
+    def make_mapper(self):
+        return None  # it computes its image off-screen
+
+    def make_algorithm(self, scene):
+        integrator = core.vtkVolumeReferenceIntegrator()
+        integrator.SetBlendMode(BLEND_MODES[scene.blend])
+        integrator.SetInputData(scene.image)
+        integrator.SetVolumeProperty(scene.prop)
+        integrator.SetCamera(scene.camera)
+        integrator.SetImageSize(*scene.size)
+        return integrator
+
+    def check_scene(self, scene):
+        pass  # integrates in double
+
+
+class ObjectOrderMethod(Method):
+    """vtkObjectOrderVolumeMapper: object-order ray casting on the CPU (parallel projection),
+    drawn in the window like VTK's CPU mapper."""
+
+    parallel_only = True
+
+    def __init__(self, name, description, classification):
+        super().__init__(name, description)
+        self.classification = classification
+
+    def make_mapper(self):
+        mapper = gl.vtkObjectOrderVolumeMapper()
+        mapper.GetCaster().SetClassification(self.classification)
+        return mapper
+
+    def statistics(self, mapper):
+        caster = mapper.GetCaster()
+        in_view = caster.ComputeNonTransparentCells()
+
+        def occluded(rendered):
+            return 1.0 - rendered / in_view if in_view > 0 else 0.0
+
+        rendered = caster.GetNumberOfNonTransparentCells()
+        stats = {"samples_per_frame": caster.GetNumberOfSamples(),
+                 "nontransparent_cells": rendered,
+                 "occluded_ratio": occluded(rendered),
+                 "octree_nodes": caster.GetNumberOfNodesVisited(),
+                 "cpu_bytes": caster.GetMemorySize(),
+                 "instruction_set": {caster.INSTRUCTIONS_SSE2: "sse2",
+                                     caster.INSTRUCTIONS_AVX2: "avx2"}.get(
+                     caster.GetLastInstructionSet(), "")}
+        # The same frame with every ray stopped at its first non-negligible opacity (the
+        # smallest threshold, 1e-3): the cells seen first along the rays must be rendered by
+        # any method, so this bounds the occluded ratio for the scene's geometry. Restoring
+        # the threshold marks the caster modified: the mapper's next frame renders anew.
+        threshold = caster.GetOpacityThreshold()
+        caster.SetOpacityThreshold(1e-3)
+        caster.Update()
+        stats["occluded_ratio_first_hit"] = occluded(caster.GetNumberOfNonTransparentCells())
+        caster.SetOpacityThreshold(threshold)
+        return stats
+
+
+METHODS = {m.name: m for m in (
+    ReferenceMethod("reference", "CPU ground truth: exact cubic per cell, adaptive pieces "
+                                 "(vtkVolumeReferenceIntegrator)"),
+    StockMethod("stock", "VTK's vtkOpenGLGPUVolumeRayCastMapper, composite, unchanged"),
+    PreIntegrationMethod("preint1", "first-order pre-integration, 2D table "
+                                    "(vtkPreIntegrationVolumeMapper)",
+                         gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER),
+    PreIntegrationMethod("preint2", "second-order pre-integration, 3D table over (front, "
+                                    "middle, back) (vtkPreIntegrationVolumeMapper)",
+                         gl.vtkPreIntegrationVolumeMapper.SECOND_ORDER),
+    AnalyticMethod("iso-analytic", "exact first hit of the trilinear isosurface, integer "
+                   "traversal, cubic per cell (vtkAnalyticVolumeMapper)", "iso", True),
+    AnalyticMethod("mip-analytic", "exact maximum intensity projection of the trilinear field "
+                   "(vtkAnalyticVolumeMapper)", "mip", True),
+    AnalyticMethod("minip-analytic", "exact minimum intensity projection of the trilinear "
+                   "field (vtkAnalyticVolumeMapper)", "minip", True),
+    AnalyticMethod("iso-stock", "VTK's sampled isosurface (ISOSURFACE_BLEND) at the step",
+                   "iso", False),
+    AnalyticMethod("mip-stock", "VTK's sampled maximum intensity projection at the step",
+                   "mip", False),
+    AnalyticMethod("minip-stock", "VTK's sampled minimum intensity projection at the step",
+                   "minip", False),
+    ObjectOrderMethod("objectorder", "object-order ray casting on the CPU: min-max octree, "
+                      "hidden volume removal, pre-integrated segments, parallel projection "
+                      "(vtkObjectOrderVolumeMapper)", core.vtkObjectOrderRayCaster.PREINTEGRATED),
+    ObjectOrderMethod("objectorder-point", "object-order ray casting with the paper's "
+                      "point-sampled classification (vtkObjectOrderVolumeMapper)",
+                      core.vtkObjectOrderRayCaster.POINT_SAMPLED),
+    FixedPointMethod("fixedpoint", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper)"),
+)}
+
+
+def get_method(name, threads=None):
+    """The method of that name; with ``threads``, pinned to that many threads."""
+    if name not in METHODS:
+        raise HovrError("unknown method %r (known: %s)" % (name, ", ".join(METHODS)))
+    if threads is None:
+        return METHODS[name]
+    if not (isinstance(threads, int) and threads >= 1):
+        raise HovrError("the thread count must be a positive integer, got %r" % (threads,))
+    return ThreadedMethod(METHODS[name], threads)
