@@ -1,5 +1,5 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
-#include "vtkPreIntegrationVolumeRepresentation.h"
+#include "vtkHovrVolumeRepresentation.h"
 
 #include "vtkAnalyticVolumeMapper.h"
 #include "vtkImageData.h"
@@ -14,10 +14,10 @@
 
 #include <cmath>
 
-vtkStandardNewMacro(vtkPreIntegrationVolumeRepresentation);
+vtkStandardNewMacro(vtkHovrVolumeRepresentation);
 
 //------------------------------------------------------------------------------
-vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
+vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
 {
   // Replaces the superclass's vtkMultiBlockVolumeMapper before anything is connected to it:
   // the superclass connects and configures whatever VolumeMapper holds when it renders.
@@ -45,10 +45,10 @@ vtkPreIntegrationVolumeRepresentation::vtkPreIntegrationVolumeRepresentation()
 }
 
 //------------------------------------------------------------------------------
-vtkPreIntegrationVolumeRepresentation::~vtkPreIntegrationVolumeRepresentation() = default;
+vtkHovrVolumeRepresentation::~vtkHovrVolumeRepresentation() = default;
 
 //------------------------------------------------------------------------------
-double vtkPreIntegrationVolumeRepresentation::ComputeAutomaticSampleDistance()
+double vtkHovrVolumeRepresentation::ComputeAutomaticSampleDistance()
 {
   // Grid steps along each axis: an image's spacing, a rectilinear grid's mean step (the mapper
   // draws those with VTK's stock compositing, which also needs a sensible step).
@@ -83,7 +83,7 @@ double vtkPreIntegrationVolumeRepresentation::ComputeAutomaticSampleDistance()
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
+void vtkHovrVolumeRepresentation::UpdateMapperParameters()
 {
   // The mapper the Integration value chooses, in place before the superclass connects the
   // input, selects the array, the scalar mode and the cropping planes and sets the mapper on
@@ -173,7 +173,7 @@ void vtkPreIntegrationVolumeRepresentation::UpdateMapperParameters()
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeRepresentation::SetBlendMode(int blend)
+void vtkHovrVolumeRepresentation::SetBlendMode(int blend)
 {
   if (this->BlendMode != blend)
   {
@@ -183,7 +183,7 @@ void vtkPreIntegrationVolumeRepresentation::SetBlendMode(int blend)
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeRepresentation::SetCropping(int crop)
+void vtkHovrVolumeRepresentation::SetCropping(int crop)
 {
   if (this->Cropping != crop)
   {
@@ -193,7 +193,7 @@ void vtkPreIntegrationVolumeRepresentation::SetCropping(int crop)
 }
 
 //------------------------------------------------------------------------------
-void vtkPreIntegrationVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integration: " << this->Integration << "\n";

@@ -1,10 +1,12 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 /**
- * @class   vtkPreIntegrationVolumeRepresentation
- * @brief   ParaView's image volume representation drawn by vtkPreIntegrationVolumeMapper
+ * @class   vtkHovrVolumeRepresentation
+ * @brief   ParaView's image volume representation drawn by hovr's mappers
  *
  * vtkImageVolumeRepresentation with its mapper (a vtkMultiBlockVolumeMapper in ParaView 5.11)
- * replaced by hovr's vtkPreIntegrationVolumeMapper; the plugin offers it as the "hovr Volume"
+ * replaced by one of hovr's: vtkPreIntegrationVolumeMapper (stock, first- and second-order
+ * pre-integration), vtkAnalyticVolumeMapper or vtkObjectOrderVolumeMapper, chosen by
+ * Integration (the GUI's Rendering Method). The plugin offers it as the "hovr Volume"
  * representation of image data. What the superclass forwards to any vtkVolumeMapper and to
  * the vtkVolumeProperty (array selection, transfer functions, scalar opacity unit distance,
  * blend mode, cropping, interpolation) keeps working. Settings that only
@@ -31,8 +33,8 @@
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
  */
-#ifndef vtkPreIntegrationVolumeRepresentation_h
-#define vtkPreIntegrationVolumeRepresentation_h
+#ifndef vtkHovrVolumeRepresentation_h
+#define vtkHovrVolumeRepresentation_h
 
 #include "hovrParaViewRepresentationModule.h" // For export macro
 #include "vtkImageVolumeRepresentation.h"
@@ -40,12 +42,12 @@
 
 class vtkVolumeMapper;
 
-class HOVRPARAVIEWREPRESENTATION_EXPORT vtkPreIntegrationVolumeRepresentation
+class HOVRPARAVIEWREPRESENTATION_EXPORT vtkHovrVolumeRepresentation
   : public vtkImageVolumeRepresentation
 {
 public:
-  static vtkPreIntegrationVolumeRepresentation* New();
-  vtkTypeMacro(vtkPreIntegrationVolumeRepresentation, vtkImageVolumeRepresentation);
+  static vtkHovrVolumeRepresentation* New();
+  vtkTypeMacro(vtkHovrVolumeRepresentation, vtkImageVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
@@ -183,8 +185,8 @@ public:
   vtkGetMacro(EffectiveSampleDistance, double);
 
 protected:
-  vtkPreIntegrationVolumeRepresentation();
-  ~vtkPreIntegrationVolumeRepresentation() override;
+  vtkHovrVolumeRepresentation();
+  ~vtkHovrVolumeRepresentation() override;
 
   void UpdateMapperParameters() override;
 
@@ -218,8 +220,8 @@ protected:
   bool WarnedDistributedProjection = false;
 
 private:
-  vtkPreIntegrationVolumeRepresentation(const vtkPreIntegrationVolumeRepresentation&) = delete;
-  void operator=(const vtkPreIntegrationVolumeRepresentation&) = delete;
+  vtkHovrVolumeRepresentation(const vtkHovrVolumeRepresentation&) = delete;
+  void operator=(const vtkHovrVolumeRepresentation&) = delete;
 };
 
 #endif

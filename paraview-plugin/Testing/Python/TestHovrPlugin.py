@@ -282,8 +282,8 @@ def main():
     drawing_mapper_here = not args.server
     composite = display.GetClientSideObject()
     representation = composite.GetActiveRepresentation()
-    checker.check(representation.GetClassName() == "vtkPreIntegrationVolumeRepresentation",
-                  "the active representation is vtkPreIntegrationVolumeRepresentation (got %s)"
+    checker.check(representation.GetClassName() == "vtkHovrVolumeRepresentation",
+                  "the active representation is vtkHovrVolumeRepresentation (got %s)"
                   % representation.GetClassName())
     mapper = representation.GetActor().GetMapper()
     checker.check(mapper is not None and mapper.GetClassName() == "vtkPreIntegrationVolumeMapper",
