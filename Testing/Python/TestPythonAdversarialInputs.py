@@ -25,7 +25,6 @@ import time
 
 import numpy
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
@@ -56,32 +55,12 @@ PROJECTIONS = {"mip": ["mip-analytic", "mip-stock"], "minip": ["minip-analytic",
 ROWS = []
 
 
-class Captured:
-    """Within ``with``: what VTK prints (warnings with no observer) goes to ``text``."""
-
-    def __enter__(self):
-        self.previous = vtkOutputWindow.GetInstance()
-        self.previous.Register(None)
-        self.window = vtkStringOutputWindow()
-        vtkOutputWindow.SetInstance(self.window)
-        self.verbosity = vtkLogger.GetCurrentVerbosityCutoff()
-        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-        return self
-
-    def __exit__(self, *exc):
-        self.text = self.window.GetOutput()
-        vtkLogger.SetStderrVerbosity(self.verbosity)
-        vtkOutputWindow.SetInstance(self.previous)
-        self.previous.UnRegister(None)
-        return False
-
-
 def run(case, what, call):
     """Run ``call``; return (outcome, value, message) with outcome 'ok' or 'error' (a
     HovrError). Any other exception, or a case over the time bound, fails."""
     start = time.perf_counter()
     outcome, value, message = "ok", None, ""
-    with Captured() as captured:
+    with hio._VTKOutputCaptured() as captured:  # what VTK prints: warnings with no observer
         try:
             value = call()
         except HovrError as error:
