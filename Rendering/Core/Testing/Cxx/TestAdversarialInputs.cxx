@@ -5,6 +5,7 @@
 // a correct image (checked against the reference integrator) or in an error reported through
 // the class's observers. An empty image without a message fails, as does a crash, a sanitizer
 // report or a hang (ctest's timeout). Prints a table of case -> outcome.
+// One file, beyond the usual length: the cases share one harness and print one table.
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"

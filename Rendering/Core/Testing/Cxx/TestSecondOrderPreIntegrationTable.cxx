@@ -8,6 +8,7 @@
 // brute-force integration in double. Also: the axes and paths, symmetry, range ends, clamping,
 // empty-slab skipping, the kernel that evaluates single entries (as the sizer does), the
 // prefilter, rebuild bookkeeping and error handling.
+// One file, beyond the usual length: every check shares the slab-integral reference above.
 #include "vtkColorTransferFunction.h"
 #include "vtkFloatArray.h"
 #include "vtkMinimalStandardRandomSequence.h"

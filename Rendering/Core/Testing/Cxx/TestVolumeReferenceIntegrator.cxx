@@ -4,6 +4,7 @@
 // with a linear colour ramp, a linear opacity ramp; rays that miss; second-order convergence
 // in ScalarTolerance on the Marschner-Lobb volume; perspective against parallel; NaN scalars;
 // bad inputs; progress events.
+// One file, beyond the usual length: every closed form shares the volume and camera fixtures.
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
