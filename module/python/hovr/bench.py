@@ -361,13 +361,13 @@ def format_headline(rows, step=1.0):
 
 def format_summary(rows, skipped=()):
     with_baseline = any("baseline" in row for row in rows)
-    lines = ["%-10s %-9s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",
+    lines = ["%-10s %-14s %6s %10s %10s %10s %9s" % ("dataset", "method", "step", "ms/frame",
                                                    "RMSE", "max err", "ms/stock")
              + ("  %-12s %8s %8s %8s" % ("baseline", "ms/base", "rmse/base", "paired")
                 if with_baseline else "")]
     for row in rows:
         ratio = row.get("ms_ratio_to_stock")
-        line = "%-10s %-9s %6g %10.2f %10.5f %10.4f %9s" % (
+        line = "%-10s %-14s %6g %10.2f %10.5f %10.4f %9s" % (
             row["dataset"], row["method"], row["step"], row["median_ms"], row["rmse"],
             row["max_error"], "%.2f" % ratio if ratio is not None else "-")
         if with_baseline and "baseline" in row:
