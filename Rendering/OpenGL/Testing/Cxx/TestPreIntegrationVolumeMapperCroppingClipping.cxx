@@ -90,8 +90,7 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
   auto setJittering = [](vtkVolumeMapper* m, int on)
   { vtkGPUVolumeRayCastMapper::SafeDownCast(m)->SetUseJittering(on); };
 
-  // Bounds are RMSE of preint against stock at 1/16 voxel, measured values in brackets. With
-  // no cut, the preint method error is 0.0071 at 1/4 voxel and 0.045 at 1 voxel. A crop
+  // Bounds are RMSE of preint against stock at 1/16 voxel, above the error without a cut. A crop
   // boundary inside the volume costs up to one segment per crossing (the skip flag applies to
   // whole segments, as to whole samples in VTK); clipping planes and the depth of opaque
   // geometry cut segments exactly.
@@ -110,7 +109,7 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
     { "cropping (sub-volume)",
       0.25,
       0.009,
-      0.1, // [0.0072, change 0.245]
+      0.1,
       [](vtkVolumeMapper* m)
       {
         m->CroppingOn();
@@ -121,7 +120,7 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
     { "cropping (inverted cross)",
       0.25,
       0.013,
-      0.1, // [0.0106, change 0.246]
+      0.1,
       [](vtkVolumeMapper* m)
       {
         m->CroppingOn();
@@ -132,19 +131,19 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
     { "clipping plane",
       0.25,
       0.010,
-      0.1, // [0.0082, change 0.171]
+      0.1,
       [&](vtkVolumeMapper* m) { m->SetClippingPlanes(planes); },
       [](vtkVolumeMapper* m) { m->SetClippingPlanes(static_cast<vtkPlaneCollection*>(nullptr)); } },
     { "clipping plane (far side)",
       0.25,
       0.009,
-      0.1, // [0.0070, change 0.164]
+      0.1,
       [&](vtkVolumeMapper* m) { m->SetClippingPlanes(farPlanes); },
       [](vtkVolumeMapper* m) { m->SetClippingPlanes(static_cast<vtkPlaneCollection*>(nullptr)); } },
     { "opaque polygon inside the volume",
       0.25,
       0.006,
-      0.1, // [0.0047, change 0.212]
+      0.1,
       [&](vtkVolumeMapper*)
       {
         if (!view.GetRenderer()->HasViewProp(floor))
@@ -156,7 +155,7 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
     { "jittering",
       1.0,
       0.045,
-      0.01, // [0.0327 vs 0.0342 unjittered, change 0.0196]
+      0.01,
       [&](vtkVolumeMapper* m) { setJittering(m, 1); },
       [&](vtkVolumeMapper* m) { setJittering(m, 0); } },
   };
