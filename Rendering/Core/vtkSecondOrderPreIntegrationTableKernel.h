@@ -51,6 +51,24 @@ struct vtkSecondOrderPreIntegrationTableKernel
       std::min(std::max(std::ceil(sweep), 1.0f), static_cast<float>(this->MaximumSteps)));
   }
 
+  // The extremum of the path x(t) = x0 + t (b + a t) for t in [0, 1] (Eq. 2): true and its
+  // value when the vertex lies inside. hovrSlabExtremum.glsl mirrors it for both shaders.
+  static bool SlabExtremum(float x0, float b, float a, float& extremum)
+  {
+    extremum = x0;
+    if (a == 0.0f)
+    {
+      return false;
+    }
+    const float vertex = -b / (2.0f * a);
+    if (!(vertex > 0.0f && vertex < 1.0f))
+    {
+      return false;
+    }
+    extremum = x0 + vertex * (b + a * vertex);
+    return true;
+  }
+
   // Whether the path stays inside one zero-opacity run: its range over t in [0, 1] is spanned
   // by its ends and, when inside, its extremum.
   bool IsEmpty(float x0, float b, float a, const float* runs) const
@@ -58,15 +76,11 @@ struct vtkSecondOrderPreIntegrationTableKernel
     const float top = static_cast<float>(this->Samples - 1);
     const float x1 = x0 + b + a;
     float lo = std::min(x0, x1), hi = std::max(x0, x1);
-    if (a != 0.0f)
+    float extremum;
+    if (SlabExtremum(x0, b, a, extremum))
     {
-      const float vertex = -b / (2.0f * a);
-      if (vertex > 0.0f && vertex < 1.0f)
-      {
-        const float extremum = x0 + vertex * (b + a * vertex);
-        lo = std::min(lo, extremum);
-        hi = std::max(hi, extremum);
-      }
+      lo = std::min(lo, extremum);
+      hi = std::max(hi, extremum);
     }
     lo = std::min(std::max(lo, 0.0f), top);
     hi = std::min(std::max(hi, 0.0f), top);

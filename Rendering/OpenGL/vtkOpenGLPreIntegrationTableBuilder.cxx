@@ -17,9 +17,11 @@
 #include "vtk_glew.h"
 
 #include "hovrPreIntegration2Build.h" // the fragment shader of one table slice
+#include "hovrSlabExtremum.h"         // the slab's extremum, shared with the ray caster
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkOpenGLPreIntegrationTableBuilder);
@@ -166,7 +168,9 @@ bool vtkOpenGLPreIntegrationTableBuilder::Build(vtkOpenGLRenderWindow* context,
   state->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   state->vtkglViewport(0, 0, nc, nb);
 
-  vtkOpenGLQuadHelper quad(context, nullptr, hovrPreIntegration2Build, nullptr);
+  std::string fragment = hovrPreIntegration2Build;
+  vtkShaderProgram::Substitute(fragment, "//HOVR::SlabExtremum", hovrSlabExtremum);
+  vtkOpenGLQuadHelper quad(context, nullptr, fragment.c_str(), nullptr);
   vtkShaderProgram* program = quad.Program;
   if (!program || !context->GetShaderCache()->ReadyShaderProgram(program))
   {

@@ -25,6 +25,7 @@
 #include "hovrPreIntegration1.h"      // the GLSL of first-order pre-integration
 #include "hovrPreIntegration2.h"      // the GLSL of second-order pre-integration
 #include "hovrPreIntegrationCommon.h" // the GLSL both orders share
+#include "hovrSlabExtremum.h"         // the slab's extremum, shared with the table builder
 
 #include <algorithm>
 #include <cmath>
@@ -653,7 +654,8 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
       switches + hovrPreIntegrationCommon +
-        (this->Integration == SECOND_ORDER ? hovrPreIntegration2 : hovrPreIntegration1),
+        (this->Integration == SECOND_ORDER ? std::string(hovrSlabExtremum) + hovrPreIntegration2
+                                           : std::string(hovrPreIntegration1)),
       Self::BeforeTag);
   if (!ok)
   {

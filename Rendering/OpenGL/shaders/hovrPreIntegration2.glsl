@@ -43,12 +43,8 @@ bool hovr_slabIsEmpty(float sf, float sm, float sb, float runFront, float runBac
   }
   float a = 2.0 * sf - 4.0 * sm + 2.0 * sb;
   float b = -3.0 * sf + 4.0 * sm - sb;
-  float vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
-  if (vertex > 0.0 && vertex < 1.0)
-  {
-    return hovr_emptyRun(sf + vertex * (b + a * vertex)) == runFront;
-  }
-  return true;
+  float extremum;
+  return !hovr_slabExtremum(sf, b, a, extremum) || hovr_emptyRun(extremum) == runFront;
 }
 
 // Composite the slab (sf, sm, sb) covering `fraction` of the table's slab length.

@@ -35,6 +35,8 @@ uniform int hovr_maximumSteps;
 uniform float hovr_length; // slab length, world units
 uniform int hovr_deviation; // k, the slice being drawn
 
+//HOVR::SlabExtremum
+
 ivec2 hovr_texel(int q)
 {
   return ivec2(q & ((1 << hovr_rowShift) - 1), q >> hovr_rowShift);
@@ -48,15 +50,11 @@ bool hovr_isEmpty(float x0, float b, float a)
   float x1 = x0 + b + a;
   float lo = min(x0, x1);
   float hi = max(x0, x1);
-  if (a != 0.0)
+  float extremum;
+  if (hovr_slabExtremum(x0, b, a, extremum))
   {
-    float vertex = -b / (2.0 * a);
-    if (vertex > 0.0 && vertex < 1.0)
-    {
-      float extremum = x0 + vertex * (b + a * vertex);
-      lo = min(lo, extremum);
-      hi = max(hi, extremum);
-    }
+    lo = min(lo, extremum);
+    hi = max(hi, extremum);
   }
   lo = min(max(lo, 0.0), top);
   hi = min(max(hi, 0.0), top);
