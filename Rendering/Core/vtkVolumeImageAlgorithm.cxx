@@ -221,6 +221,23 @@ std::string vtkVolumeImageAlgorithm::CheckGeometry(vtkImageData* input)
 }
 
 //------------------------------------------------------------------------------
+void vtkVolumeImageAlgorithm::ReportGeometry(vtkObject* reporter,
+  vtkImageData* input,
+  vtkMTimeType& reported)
+{
+  if (!input || input->GetMTime() == reported)
+  {
+    return;
+  }
+  reported = input->GetMTime();
+  const std::string why = CheckGeometry(input);
+  if (!why.empty())
+  {
+    vtkErrorWithObjectMacro(reporter, << why << " Not drawing.");
+  }
+}
+
+//------------------------------------------------------------------------------
 std::string vtkVolumeImageAlgorithm::CheckVolume(vtkImageData* input, vtkDataArray* scalars)
 {
   std::ostringstream why;

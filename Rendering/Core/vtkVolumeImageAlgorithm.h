@@ -74,6 +74,13 @@ public:
    */
   static std::string CheckGeometry(vtkImageData* input);
 
+  /**
+   * For mappers, from GetBounds(): reports CheckGeometry()'s reason as an error of reporter,
+   * once per modification time of input (kept in reported). VTK and ParaView may skip drawing
+   * after a look at the bounds, so that the mapper never gets to say why.
+   */
+  static void ReportGeometry(vtkObject* reporter, vtkImageData* input, vtkMTimeType& reported);
+
 protected:
   vtkVolumeImageAlgorithm();
   ~vtkVolumeImageAlgorithm() override;

@@ -126,8 +126,9 @@ inline void EvaluateNodes(const std::vector<Node>& nodes, double x, int n, doubl
 
 // Appends to curve a piecewise-linear RGB curve through color's own colours over its nodes
 // (colour spaces other than RGB).
-void FollowColorCurve(
-  vtkColorTransferFunction* color, const std::vector<Node>& nodes, std::vector<Node>& curve)
+void FollowColorCurve(vtkColorTransferFunction* color,
+  const std::vector<Node>& nodes,
+  std::vector<Node>& curve)
 {
   const bool step = color->GetColorSpace() == VTK_CTF_STEP;
   std::vector<double> ends, middles;

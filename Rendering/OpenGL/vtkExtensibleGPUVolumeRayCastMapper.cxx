@@ -317,17 +317,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::WarnFallbackOnce(const char* reason)
 double* vtkExtensibleGPUVolumeRayCastMapper::GetBounds()
 {
   double* bounds = this->Superclass::GetBounds();
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
-  if (input && input->GetMTime() != this->ReportedBoundsTime)
-  {
-    // Also where VTK or ParaView skip drawing after a look at the bounds, so that the mapper
-    // never gets to say why.
-    this->ReportedBoundsTime = input->GetMTime();
-    const std::string why = vtkVolumeImageAlgorithm::CheckGeometry(input);
-    if (!why.empty())
-    {
-      vtkErrorMacro(<< why << " Not drawing.");
-    }
-  }
+  vtkVolumeImageAlgorithm::ReportGeometry(
+    this, vtkImageData::SafeDownCast(this->GetDataSetInput()), this->ReportedBoundsTime);
   return bounds;
 }

@@ -32,13 +32,13 @@ METHODS = ["Stock", "First-order pre-integration", "Second-order pre-integration
            "Object-order ray casting (CPU)"]
 
 
-# Where each method's messages come from (file names in VTK's messages, class names).
+# Where each method's messages come from (the class names in VTK's messages).
 GPU_SOURCES = ("vtkExtensibleGPUVolumeRayCastMapper", "vtkGPUVolumeRayCastMapper",
                "vtkOpenGLGPUVolumeRayCastMapper", "vtkPreIntegrationTable")
 SOURCES = {method: GPU_SOURCES + ("vtkPreIntegrationVolumeMapper",) for method in METHODS[:3]}
 SOURCES.update({method: GPU_SOURCES + ("vtkAnalyticVolumeMapper",) for method in METHODS[3:6]})
 SOURCES[METHODS[6]] = ("vtkObjectOrderVolumeMapper", "vtkObjectOrderRayCaster",
-                       "vtkVolumeImageAlgorithm", "vtkCameraRayModel", "vtkMinMaxOctree")
+                       "vtkCameraRayModel", "vtkMinMaxOctree")
 
 
 def field(n=12):
@@ -141,9 +141,11 @@ def main():
         # frame: the messages of the case so far, from the classes drawing this method.
         sources = SOURCES[method]
         text = captured.window.GetOutput()
-        message = " ".join(line.strip() for line in text.splitlines()
-                           if ("ERR" in line or "WARN" in line or "Error" in line
-                               or "Warning" in line) and any(s in line for s in sources))
+        # A message is a block ("ERROR: In <file>, line <n>" and "<class> (<address>): ...").
+        blocks = [" ".join(block.split()) for block in text.split("\n\n")]
+        message = " ".join(block for block in blocks
+                           if ("ERR" in block or "WARN" in block or "Error" in block
+                               or "Warning" in block) and any(s in block for s in sources))
         outcome = "image" if pixels else ("message" if message else "EMPTY, NO MESSAGE")
         if not pixels and not message:
             failures.append("%s / %s: an empty view and no message" % (case, method))
