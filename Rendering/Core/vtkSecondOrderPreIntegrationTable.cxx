@@ -32,7 +32,14 @@ vtkSecondOrderPreIntegrationTable::~vtkSecondOrderPreIntegrationTable()
 //------------------------------------------------------------------------------
 vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntries() const
 {
-  return static_cast<vtkIdType>(this->TableSize) * this->ChordSize * this->DeviationSize;
+  return static_cast<vtkIdType>(this->TableSize) * this->ChordSize * this->DeviationSize *
+    this->GetNumberOfLayers();
+}
+
+//------------------------------------------------------------------------------
+int vtkSecondOrderPreIntegrationTable::GetNumberOfLayers() const
+{
+  return this->DeviationSize == 1 ? std::max(this->Moments, 1) : 1;
 }
 
 //------------------------------------------------------------------------------
@@ -198,6 +205,27 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   const float* runs = this->IterationEmptyRuns->GetPointer(0);
   float* table = this->Table->GetPointer(0);
   const int nc = this->TableSize, nb = this->ChordSize, nd = this->DeviationSize;
+  if (this->Moments > 0 && nd == 1)
+  {
+    // Shaded first order: a task per centre, the chords in mirrored pairs as below.
+    const size_t stride = 4 * static_cast<size_t>(nc) * nb;
+    this->ForInParts(nc,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        std::vector<float> steps;
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          for (int j = 0; j <= (nb - 1) / 2; ++j)
+          {
+            const int mirror = nb - 1 - j;
+            kernel.IntegrateMoments(static_cast<int>(i), j, samples, runs, steps, this->Moments,
+              stride, table + 4 * (i + static_cast<vtkIdType>(nc) * j),
+              mirror != j ? table + 4 * (i + static_cast<vtkIdType>(nc) * mirror) : nullptr);
+          }
+        }
+      });
+    return;
+  }
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
   this->ForInParts(static_cast<vtkIdType>(nd) * nc,
@@ -266,4 +294,5 @@ void vtkSecondOrderPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DeviationRange: " << this->DeviationRange << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "Prefilter: " << (this->Prefilter ? "On" : "Off") << "\n";
+  os << indent << "Moments: " << this->Moments << "\n";
 }

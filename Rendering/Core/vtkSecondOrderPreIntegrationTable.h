@@ -126,6 +126,28 @@ public:
   vtkBooleanMacro(Prefilter, bool);
   ///@}
 
+  ///@{
+  /**
+   * Moment layers for shaded pre-integration (vtkVolumeShadingModel::ShadeSegment), first
+   * order only (DeviationSize 1): 0 stores the segment's RGBA; 2, 4 or 5 store that many
+   * layers of TableSize x ChordSize entries one after the other instead, layer l holding
+   * (J_l.rgb, J'_l) for l < 4: the integrals of the colour-weighted and of the plain step
+   * weights times (1 - u), u, u (1 - u)^2 and u^2 (1 - u) of the position u along the
+   * segment (Guetat et al. 2010, Eq. 8 and 10 in a basis without cancellation; layers 0 and
+   * 1 sum to the unshaded RGBA), and layer 4 the tent integral I'' of the highlight search
+   * in its first channel. Linear and constant interpolation read 2 layers, non-linear 5,
+   * Gooch 4. Ignored (one RGBA layer) unless DeviationSize is 1. Initial value is 0.
+   */
+  vtkSetClampMacro(Moments, int, 0, 5);
+  vtkGetMacro(Moments, int);
+  ///@}
+
+  /**
+   * Layers of TableSize x ChordSize x DeviationSize RGBA entries the table stores: Moments,
+   * or 1.
+   */
+  int GetNumberOfLayers() const;
+
   /**
    * The iteration table of the last build: (c tau, tau), extinction-weighted colour and
    * extinction of the (prefiltered) transfer function at GetNumberOfIterationSamples()
@@ -189,6 +211,7 @@ protected:
   double DeviationRange = 0.0;
   int Iterations = 64;
   bool Prefilter = false;
+  int Moments = 0;
   int IterationSamples = 0;
   int IterationSamplesPerSpacing = 2;
   vtkFloatArray* IterationTable;

@@ -89,29 +89,23 @@ struct vtkSecondOrderPreIntegrationTableKernel
     return runs[qlo] >= 0.0f && runs[qlo] == runs[qhi];
   }
 
-  // Entry (i, j, k) into forward and, when backward is given, its reversed path into
-  // backward. steps is scratch memory.
-  void Integrate(int i,
+  // The steps of entry (i, j, k)'s path into steps: per step (c alpha, alpha), alpha =
+  // 1 - exp(-tau h). Returns their number, 0 for a path inside one zero-opacity run.
+  int Sample(int i,
     int j,
     int k,
     const float* samples,
     const float* runs,
     std::vector<float>& steps,
-    float* forward,
-    float* backward) const
+    int minimumSteps = 1) const
   {
     float x0, b, a;
     this->Path(i, j, k, x0, b, a);
     if (this->IsEmpty(x0, b, a, runs))
     {
-      std::fill(forward, forward + 4, 0.0f);
-      if (backward)
-      {
-        std::fill(backward, backward + 4, 0.0f);
-      }
-      return;
+      return 0;
     }
-    const int n = this->Steps(b, a);
+    const int n = std::max(this->Steps(b, a), minimumSteps);
     const float h = this->Length / static_cast<float>(n);
     const float width = 1.0f / static_cast<float>(n);
     const float top = static_cast<float>(this->Samples - 1);
@@ -140,6 +134,21 @@ struct vtkSecondOrderPreIntegrationTableKernel
       }
       step[3] = alpha;
     }
+    return n;
+  }
+
+  // Entry (i, j, k) into forward and, when backward is given, its reversed path into
+  // backward. steps is scratch memory.
+  void Integrate(int i,
+    int j,
+    int k,
+    const float* samples,
+    const float* runs,
+    std::vector<float>& steps,
+    float* forward,
+    float* backward) const
+  {
+    const int n = this->Sample(i, j, k, samples, runs, steps);
     // Front to back: RGBA += T (c a, a), T *= 1 - a. Alpha is accumulated like the colour,
     // not taken as 1 - T, which in float would lose the opacity of very thin steps.
     Composite(steps.data(), n, false, forward);
@@ -149,8 +158,72 @@ struct vtkSecondOrderPreIntegrationTableKernel
     }
   }
 
+  // The moments of a first-order entry (deviation 0) for shaded pre-integration: layer l of
+  // `layers` (stride floats apart) gets the integral of the step weights T (c alpha, alpha)
+  // times the position weight of the J basis, u the position along the segment: (1 - u),
+  // u, u (1 - u)^2, u^2 (1 - u) (J_0..J_3 of Guetat et al.'s Eq. 8 rewritten without
+  // cancellation), and layer 4 the tent min(2u, 2 - 2u) of the highlight search (line 213)
+  // in its first channel. backward, when given, gets the reversed path's. The position
+  // weights are averaged exactly over each step, and a path takes at least MomentSteps steps
+  // (the transmittance inside the segment skews the moments even where the scalar is
+  // constant).
+  static constexpr int MomentSteps = 16;
+  void IntegrateMoments(int i,
+    int j,
+    const float* samples,
+    const float* runs,
+    std::vector<float>& steps,
+    int layers,
+    size_t stride,
+    float* forward,
+    float* backward) const
+  {
+    const int n = this->Sample(i, j, 0, samples, runs, steps, MomentSteps);
+    CompositeMoments(steps.data(), n, false, layers, stride, forward);
+    if (backward)
+    {
+      CompositeMoments(steps.data(), n, true, layers, stride, backward);
+    }
+  }
+
+  static void CompositeMoments(
+    const float* steps, int n, bool reversed, int layers, size_t stride, float* out)
+  {
+    float sum[5][4] = {};
+    float transmittance = 1.0f;
+    for (int m = 0; m < n; ++m)
+    {
+      const float* step = steps + 4 * (reversed ? n - 1 - m : m);
+      // Averages over the step [u - w/2, u + w/2]: <u^2> = u^2 + w^2/12, <u^3> = u^3 + u w^2/4.
+      const float w = 1.0f / static_cast<float>(n);
+      const float u = (static_cast<float>(m) + 0.5f) * w;
+      const float u2 = u * u + w * w / 12.0f, u3 = u * (u * u + w * w / 4.0f);
+      const float v = 1.0f - u;
+      const float weights[4] = { v, u, u - 2.0f * u2 + u3, u2 - u3 };
+      for (int l = 0; l < std::min(layers, 4); ++l)
+      {
+        const float weight = transmittance * weights[l];
+        for (int c = 0; c < 4; ++c)
+        {
+          sum[l][c] += weight * step[c];
+        }
+      }
+      sum[4][0] += transmittance * step[3] * std::min(2.0f * u, 2.0f * v);
+      transmittance *= 1.0f - step[3];
+    }
+    for (int l = 0; l < layers; ++l)
+    {
+      std::copy(sum[l], sum[l] + 4, out + l * stride);
+    }
+  }
+
   static void Composite(const float* steps, int n, bool reversed, float* rgba)
   {
+    if (n == 0)
+    {
+      std::fill(rgba, rgba + 4, 0.0f);
+      return;
+    }
     float sum[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
     float transmittance = 1.0f;
     for (int m = 0; m < n; ++m)

@@ -11,6 +11,7 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -19,6 +20,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTrilinearRayProfile.h"
 #include "vtkVolumeProperty.h"
+#include "vtkVolumeShadingModel.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
@@ -68,6 +70,10 @@ public:
   float* Extra = nullptr;  // Depth, MaxScalar or MinScalar
   double IsoShift = 0.0;   // isosurface: the isovalue perturbation of DepthSpread
   float* Spread = nullptr; // isosurface: DepthSpread
+  // Composite shading: the lighting (nullptr: unshaded) and the pieces per radian of normal
+  // turn that its narrowest lobe needs.
+  const vtkVolumeShadingModel* Shading = nullptr;
+  double PiecesPerRadian = 0.0;
 
   RayCaster(const VolumeGrid& grid,
     const vtkCameraRayModel* rays,
@@ -350,14 +356,108 @@ public:
     {
       return 0;
     }
-    return this->Integrate(o, v, walk, rgba);
+    double view[3] = { 0, 0, 0 };
+    if (this->Shading)
+    {
+      double origin[3];
+      this->Rays->GetPixelRay(i, j, origin, view);
+      for (double& c : view)
+      {
+        c = -c;
+      }
+    }
+    return this->Integrate(o, v, walk, rgba, view);
   }
 
-  // Integrates the ray o + t v in grid index along its walk.
+  // The gradient of the field at point p of the grid as VTK's GPU ray caster takes it: the
+  // difference of the neighbours one point away along each axis, clamped to the box (a
+  // one-sided difference at the faces), not halved; in grid index units.
+  void PointGradient(const int p[3], double g[3]) const
+  {
+    const int* dims = this->Grid.Dims;
+    const vtkIdType stride[3] = { 1, dims[0], static_cast<vtkIdType>(dims[0]) * dims[1] };
+    const vtkIdType base = p[0] + p[1] * stride[1] + p[2] * stride[2];
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType up = p[a] + 1 < dims[a] ? stride[a] : 0;
+      const vtkIdType down = p[a] > 0 ? stride[a] : 0;
+      g[a] = this->Grid.Values[base + up] - this->Grid.Values[base - down];
+    }
+  }
+
+  // The 8 corner gradients of a cell in world units (the world gradient is M^T g for
+  // index = M world), and how far their directions spread, in radians (pi when a corner has
+  // no direction).
+  double CornerGradients(const int cell[3], double gradients[8][3]) const
+  {
+    const double* m = this->Grid.PhysicalToIndex;
+    double mean[3] = { 0, 0, 0 };
+    bool degenerate = false;
+    for (int c = 0; c < 8; ++c)
+    {
+      const int p[3] = { cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + ((c >> 2) & 1) };
+      double g[3];
+      this->PointGradient(p, g);
+      double* w = gradients[c];
+      for (int a = 0; a < 3; ++a)
+      {
+        w[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
+      }
+      const double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+      if (!(norm > 0.0) || !std::isfinite(norm))
+      {
+        degenerate = true;
+        continue;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        mean[a] += w[a] / norm;
+      }
+    }
+    const double length = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+    if (degenerate || !(length > 0.0))
+    {
+      return vtkMath::Pi();
+    }
+    double spread = 0.0;
+    for (int c = 0; c < 8; ++c)
+    {
+      const double* w = gradients[c];
+      const double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+      const double cosine = (w[0] * mean[0] + w[1] * mean[1] + w[2] * mean[2]) / (norm * length);
+      spread = std::max(spread, std::acos(std::min(std::max(cosine, -1.0), 1.0)));
+    }
+    return 2.0 * spread;
+  }
+
+  // The unit normal at local cell coordinates u: the trilinear interpolation of the corner
+  // gradients, normalised (zero where it vanishes or is not finite).
+  static void InterpolateNormal(const double gradients[8][3], const double u[3], double n[3])
+  {
+    n[0] = n[1] = n[2] = 0.0;
+    for (int c = 0; c < 8; ++c)
+    {
+      const double w = ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) *
+        ((c & 4) ? u[2] : 1 - u[2]);
+      for (int a = 0; a < 3; ++a)
+      {
+        n[a] += w * gradients[c][a];
+      }
+    }
+    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int a = 0; a < 3; ++a)
+    {
+      n[a] = norm > 0.0 && std::isfinite(norm) ? n[a] / norm : 0.0;
+    }
+  }
+
+  // Integrates the ray o + t v in grid index along its walk; view is the unit world direction
+  // towards the eye (used when shading).
   vtkIdType Integrate(const double o[3],
     const double v[3],
     vtkGridRayTraversal& walk,
-    double rgba[4]) const
+    double rgba[4],
+    const double view[3] = nullptr) const
   {
     rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
     double transmittance = 1.0;
@@ -376,10 +476,10 @@ public:
       {
         continue; // The interpolant stays within the corner range: exactly empty.
       }
-      double u0[3];
-      CellEntry(o, v, t0, cell, u0);
+      double entry[3];
+      CellEntry(o, v, t0, cell, entry);
       vtkTrilinearRayProfile profile;
-      profile.Set(corner, u0, v);
+      profile.Set(corner, entry, v);
       const double variation = length * profile.GetMaximumSlope(length);
       // Pieces as fine as the narrowest transfer-function feature the cell's values meet (a
       // feature elsewhere in the range needs no pieces here); one piece where both functions
@@ -388,13 +488,32 @@ public:
         std::min(this->Sampler->GetSmallestFeature(*range.first, *range.second), this->DataRange);
       const double step =
         feature > 0.0 && feature < VTK_DOUBLE_MAX ? this->Tolerance * feature : VTK_DOUBLE_MAX;
-      const double n = std::min(std::ceil(variation / step), 1e6);
+      double n = std::min(std::ceil(variation / step), 1e6);
+      double gradients[8][3], u0[3];
+      CellEntry(o, v, t0, cell, u0);
+      const bool shade = this->Shading && view;
+      if (shade)
+      {
+        // Also as fine as the lighting's narrowest lobe where the normals turn: the turn
+        // along the piece is at most the corners' spread times the piece's share of a cell.
+        const double spread = this->CornerGradients(cell, gradients);
+        const double share = std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
+        n = std::max(n, std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6));
+      }
       const int count = std::max(1, static_cast<int>(n));
       const double h = length / count;
       for (int k = 0; k < count; ++k)
       {
         double sample[4];
         this->Sampler->Evaluate(profile.Evaluate((k + 0.5) * h), sample);
+        if (shade && sample[3] > 0.0)
+        {
+          const double t = (k + 0.5) * h;
+          const double u[3] = { u0[0] + t * v[0], u0[1] + t * v[1], u0[2] + t * v[2] };
+          double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
+          InterpolateNormal(gradients, u, normal);
+          this->Shading->ShadePoint(normal, view, colour, sample);
+        }
         // Exact for a piece of constant colour and extinction.
         const double alpha = -std::expm1(-sample[3] * h);
         const double weight = transmittance * alpha;
@@ -419,7 +538,13 @@ public:
 vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator() = default;
 
 //------------------------------------------------------------------------------
-vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator() = default;
+vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator()
+{
+  this->SetShadingModel(nullptr);
+}
+
+//------------------------------------------------------------------------------
+vtkCxxSetObjectMacro(vtkVolumeReferenceIntegrator, ShadingModel, vtkVolumeShadingModel);
 
 //------------------------------------------------------------------------------
 int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
@@ -543,6 +668,25 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   caster.Diffuse = this->VolumeProperty->GetDiffuse(0);
   caster.Specular = this->VolumeProperty->GetSpecular(0);
   caster.SpecularPower = this->VolumeProperty->GetSpecularPower(0);
+  vtkNew<vtkVolumeShadingModel> headlight;
+  if (caster.Shade && this->BlendMode == COMPOSITE_BLEND)
+  {
+    vtkVolumeShadingModel* shading = this->ShadingModel;
+    if (!shading)
+    {
+      // VTK's default lighting: a white headlight, both sides lit.
+      shading = headlight;
+      shading->SetFromProperty(this->VolumeProperty);
+      const double direction[3] = { 0, 0, 1 }, white[3] = { 1, 1, 1 };
+      shading->AddLight(direction, white, white, true);
+    }
+    caster.Shading = shading;
+    // A lobe of power n is about 1/sqrt(n) radians wide; the cone's as wide.
+    const double lobes = shading->GetSpecular() != 0.0 && !shading->GetGooch()
+      ? std::sqrt(shading->GetSpecularPower())
+      : 1.0;
+    caster.PiecesPerRadian = lobes / (4.0 * this->ScalarTolerance);
+  }
 
   // Rows in chunks so progress and abort requests are handled on this thread.
   const int chunks = std::min(height, 20);
@@ -605,4 +749,5 @@ void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";
   os << indent << "IsoPerturbation: " << this->IsoPerturbation << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
+  os << indent << "ShadingModel: " << this->ShadingModel << "\n";
 }

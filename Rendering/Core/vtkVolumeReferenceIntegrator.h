@@ -48,6 +48,7 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
 
+class vtkVolumeShadingModel;
 class vtkVolumeTransferFunctionSampler;
 
 class HOVRRENDERINGCORE_EXPORT vtkVolumeReferenceIntegrator : public vtkVolumeImageAlgorithm
@@ -113,6 +114,23 @@ public:
   vtkGetMacro(TransmittanceCutoff, double);
   ///@}
 
+  ///@{
+  /**
+   * The lighting of composite blending when the volume property's Shade is on: emission per
+   * unit extinction is vtkVolumeShadingModel::ShadePoint() of the transfer function's colour,
+   * the normal being the trilinear interpolation of the per-point gradients of VTK's GPU ray
+   * caster (differences of the neighbours, one-sided at the faces; the same as the central
+   * difference of the trilinear field, which is what VTK's shader takes), normalised, and the
+   * view the pixel ray's direction reversed. Integration pieces are then also fine enough for
+   * the normal to turn by at most ScalarTolerance * 4 / sqrt(n) radians per piece (n the
+   * specular power: the lobe's width). nullptr (the initial value) uses a model made from
+   * the property's coefficients with VTK's default lighting: a white headlight, both sides
+   * lit, the lobe.
+   */
+  virtual void SetShadingModel(vtkVolumeShadingModel*);
+  vtkGetObjectMacro(ShadingModel, vtkVolumeShadingModel);
+  ///@}
+
   /**
    * Number of integration pieces (composite) or cells (other blend modes) evaluated by the
    * last update: the samples per frame.
@@ -154,6 +172,7 @@ protected:
   double TransmittanceCutoff = 1e-7;
   double IsoPerturbation = 1e-6;
   vtkIdType NumberOfSamples = 0;
+  vtkVolumeShadingModel* ShadingModel = nullptr;
 
 private:
   vtkVolumeReferenceIntegrator(const vtkVolumeReferenceIntegrator&) = delete;

@@ -19,12 +19,14 @@
 #include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
+#include "vtkVolumeShadingModel.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 #include "vtk_glew.h"
 
 #include "hovrPreIntegration1.h"      // the GLSL of first-order pre-integration
 #include "hovrPreIntegration2.h"      // the GLSL of second-order pre-integration
 #include "hovrPreIntegrationCommon.h" // the GLSL both orders share
+#include "hovrPreIntegrationShading.h" // the GLSL of shaded first-order segments
 #include "hovrSlabExtremum.h"         // the slab's extremum, shared with the table builder
 
 #include <algorithm>
@@ -55,11 +57,14 @@ bool IsConstantOne(vtkPiecewiseFunction* function)
 
 // The most entries along a table axis: a 4097-entry axis already resolves 1/4096 of the range.
 constexpr int MaximumAxisSize = 4097;
+// The most directional lights a shaded frame sums (the GLSL's array size).
+constexpr int MaximumLights = 8;
 }
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkSecondOrderPreIntegrationTable::New())
+  , ShadingModel(vtkVolumeShadingModel::New())
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , TableSizer(vtkPreIntegrationTableSizer::New())
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
@@ -72,6 +77,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
 vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
 {
   this->FirstOrderTable->Delete();
+  this->ShadingModel->Delete();
   this->SecondOrderTable->Delete();
   this->TableSizer->Delete();
   this->GPUBuilder->Delete();
@@ -93,6 +99,38 @@ void vtkPreIntegrationVolumeMapper::SetIntegration(int mode)
     this->ExtensionShaderModified();
     this->Modified();
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetGradientInterpolation(int mode)
+{
+  if (mode != this->ShadingModel->GetGradientInterpolation())
+  {
+    this->ShadingModel->SetGradientInterpolation(mode);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationVolumeMapper::GetGradientInterpolation()
+{
+  return this->ShadingModel->GetGradientInterpolation();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetGooch(bool gooch)
+{
+  if (gooch != this->ShadingModel->GetGooch())
+  {
+    this->ShadingModel->SetGooch(gooch);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::GetGooch()
+{
+  return this->ShadingModel->GetGooch();
 }
 
 //------------------------------------------------------------------------------
@@ -146,7 +184,8 @@ int vtkPreIntegrationVolumeMapper::GetEffectiveTablePrecision()
 }
 
 //------------------------------------------------------------------------------
-const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
+const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkRenderer* ren,
+  vtkVolume* vol,
   vtkDataArray* scalars)
 {
   vtkVolumeProperty* property = vol->GetProperty();
@@ -162,9 +201,18 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkVolume* vol
   {
     return "pre-integration does not support 2D transfer functions";
   }
-  if (property->GetShade(0))
+  if (property->GetShade(0) && this->Integration == SECOND_ORDER)
   {
-    return "first-order pre-integration does not shade";
+    return "second-order pre-integration does not shade (first order does)";
+  }
+  if (property->GetShade(0) && this->Integration == FIRST_ORDER)
+  {
+    vtkNew<vtkVolumeShadingModel> lights;
+    if (lights->SetLightsFromRenderer(ren) > 0)
+    {
+      return "shaded pre-integration models directional lights only, and a positional light "
+             "is on";
+    }
   }
   // A gradient opacity of 1 everywhere changes nothing; VTK creates that default as soon as
   // anything (vtkFixedPointVolumeRayCastMapper, for one) asks the property for the function.
@@ -227,7 +275,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   const bool stock = this->Integration == STOCK;
   if (!stock)
   {
-    if (const char* reason = this->GetStockFallbackReason(vol, scalars))
+    if (const char* reason = this->GetStockFallbackReason(ren, vol, scalars))
     {
       this->WarnFallbackOnce(reason);
       return DrawStock;
@@ -259,6 +307,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
+  const int layers = this->PrepareShading(ren, vol);
+  if (layers < 0)
+  {
+    return DrawNothing;
+  }
+  table->SetMoments(layers);
   table->SetVolumeProperty(vol->GetProperty());
   // A first-order segment spans one sample distance, a second-order slab two.
   table->SetSegmentLength(secondOrder ? 2.0 * this->SampleDistance : this->SampleDistance);
@@ -300,6 +354,44 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   this->DeviationScale =
     static_cast<float>(scaleOf(table->GetDeviationSize(), table->GetEffectiveDeviationRange()));
   return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkVolumeShadingModel* model = this->ShadingModel;
+  this->LastFrameShaded = this->Integration == FIRST_ORDER && vol->GetProperty()->GetShade(0);
+  std::string switches;
+  int layers = 0;
+  if (this->LastFrameShaded)
+  {
+    model->SetFromProperty(vol->GetProperty());
+    model->SetLightsFromRenderer(ren); // positional lights fell back to the stock path
+    if (model->GetNumberOfLights() > MaximumLights)
+    {
+      vtkWarningMacro("Shaded pre-integration sums " << MaximumLights << " lights; "
+                                                     << model->GetNumberOfLights() - MaximumLights
+                                                     << " more are ignored.");
+    }
+    if (!model->TransformLights(vol->GetMatrix()))
+    {
+      vtkErrorMacro("The volume's matrix is singular: the lights have no direction in its "
+                    "coordinates; not drawing.");
+      return -1;
+    }
+    const int mode = model->GetGradientInterpolation();
+    // The moment layers the interpolation reads: non-linear Blinn-Phong also the tent.
+    layers = mode == vtkVolumeShadingModel::NONLINEAR ? (model->GetGooch() ? 4 : 5) : 2;
+    switches = "#define HOVR_LAYERS " + std::to_string(layers) +
+      "\n#define HOVR_INTERPOLATION " + std::to_string(mode) + "\n#define HOVR_GOOCH " +
+      (model->GetGooch() ? "1" : "0") + "\n";
+  }
+  if (switches != this->ShadingSwitches)
+  {
+    this->ShadingSwitches = switches;
+    this->ExtensionShaderModified();
+  }
+  return layers;
 }
 
 //------------------------------------------------------------------------------
@@ -552,12 +644,15 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   const int n = table->GetTableSize();
   const int nb = table->GetChordSize();
   const int nd = table->GetDeviationSize();
-  // First order reads a 2D texture over (centre, chord), second order a 3D one.
-  const bool volume = this->Integration == SECOND_ORDER;
+  // First order reads a 2D texture over (centre, chord), shaded first order a 3D one over
+  // (centre, chord, moment layer), second order a 3D one.
+  const int layers = table->GetNumberOfLayers();
+  const bool volume = this->Integration == SECOND_ORDER || layers > 1;
+  const int depth = this->Integration == SECOND_ORDER ? nd : layers;
   static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
   static const int bytes[4] = { 4, 1, 2, 4 };
   const double start = vtkTimerLog::GetUniversalTime();
-  this->LastTableBuiltOnGPU = volume && !table->GetComputeEntries();
+  this->LastTableBuiltOnGPU = this->Integration == SECOND_ORDER && !table->GetComputeEntries();
   if (this->LastTableBuiltOnGPU)
   {
     // The GPU builder writes the 3D texture itself, (re)creating it as needed.
@@ -575,12 +670,12 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     this->TableTexture->SetFormat(GL_RGBA);
     this->TableTexture->SetDataType(GL_FLOAT);
     void* data = table->GetTable()->GetVoidPointer(0);
-    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, nb, nd, 4, VTK_FLOAT, data)
+    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, nb, depth, 4, VTK_FLOAT, data)
                                 : this->TableTexture->Create2DFromRaw(n, nb, 4, VTK_FLOAT, data);
     if (!created)
     {
       vtkErrorMacro("Could not create the " << n << " x " << nb << (volume ? " x " : "")
-                                            << (volume ? std::to_string(nd) : std::string())
+                                            << (volume ? std::to_string(depth) : std::string())
                                             << " table texture.");
       return false;
     }
@@ -648,15 +743,20 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
       fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", Self::ReplaceTag);
   // Declared late, after every uniform and global the functions use; the switches of the
   // GLSL first.
-  const std::string switches =
-    std::string("#define HOVR_SKIP_EMPTY ") + (this->SkipEmptySegments ? "1" : "0") + "\n";
+  const bool shaded = !this->ShadingSwitches.empty();
+  const std::string switches = std::string("#define HOVR_SKIP_EMPTY ") +
+    (this->SkipEmptySegments ? "1" : "0") + "\n#define HOVR_SHADED " + (shaded ? "1" : "0") +
+    "\n" + this->ShadingSwitches;
+  // Shading calls computeRayDirection(): declared after it.
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
       switches + hovrPreIntegrationCommon +
-        (this->Integration == SECOND_ORDER ? std::string(hovrSlabExtremum) + hovrPreIntegration2
-                                           : std::string(hovrPreIntegration1)),
-      Self::BeforeTag);
+        (this->Integration == SECOND_ORDER
+            ? std::string(hovrSlabExtremum) + hovrPreIntegration2
+            : (shaded ? std::string(hovrPreIntegrationShading) : std::string()) +
+              hovrPreIntegration1),
+      shaded ? Self::AfterTag : Self::BeforeTag);
   if (!ok)
   {
     vtkErrorMacro("The ray caster's shader template lacks a tag that pre-integration replaces.");
@@ -678,6 +778,56 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
     program->SetUniformf("hovr_deviationScale", this->DeviationScale);
   }
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
+  if (!this->ShadingSwitches.empty())
+  {
+    this->SetShadingParameters(program);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* program)
+{
+  vtkVolumeShadingModel* model = this->ShadingModel;
+  const int count = std::min(model->GetNumberOfLights(), MaximumLights);
+  float direction[MaximumLights][3] = {}, diffuse[MaximumLights][3] = {},
+        specular[MaximumLights][3] = {};
+  int head[MaximumLights] = {};
+  for (int k = 0; k < count; ++k)
+  {
+    double d[3], c[3], s[3];
+    bool headlight;
+    model->GetLight(k, d, c, s, headlight);
+    for (int a = 0; a < 3; ++a)
+    {
+      direction[k][a] = static_cast<float>(d[a]);
+      diffuse[k][a] = static_cast<float>(c[a]);
+      specular[k][a] = static_cast<float>(s[a]);
+    }
+    head[k] = headlight ? 1 : 0;
+  }
+  program->SetUniformi("hovr_numberOfLights", count);
+  program->SetUniform3fv("hovr_lightDirection", MaximumLights, direction);
+  program->SetUniform3fv("hovr_lightDiffuse", MaximumLights, diffuse);
+  program->SetUniform3fv("hovr_lightSpecular", MaximumLights, specular);
+  program->SetUniform1iv("hovr_lightIsHead", MaximumLights, head);
+  const float lighting[4] = { static_cast<float>(model->GetAmbient()),
+    static_cast<float>(model->GetDiffuse()), static_cast<float>(model->GetSpecular()),
+    static_cast<float>(model->GetSpecularPower()) };
+  program->SetUniform4f("hovr_lighting", lighting);
+  program->SetUniformf(
+    "hovr_minimumCosHalfAngle", static_cast<float>(model->GetMinimumCosHalfAngle()));
+  program->SetUniformi("hovr_twoSided", model->GetTwoSidedLighting() ? 1 : 0);
+  float cool[3], warm[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    cool[a] = static_cast<float>(model->GetGoochCool()[a]);
+    warm[a] = static_cast<float>(model->GetGoochWarm()[a]);
+  }
+  program->SetUniform3f("hovr_goochCool", cool);
+  program->SetUniform3f("hovr_goochWarm", warm);
+  const float weights[2] = { static_cast<float>(model->GetGoochAlpha()),
+    static_cast<float>(model->GetGoochBeta()) };
+  program->SetUniform2f("hovr_goochWeights", weights);
 }
 
 //------------------------------------------------------------------------------

@@ -27,10 +27,19 @@
  * rays through the volume, the least memory within 2% of the best error) unless TableSize is
  * set, and its storage precision follows its order unless TablePrecision is set.
  *
+ * Shading (the volume property's Shade on) is pre-integrated too, for first order: Guetat et
+ * al. 2010's shaded pre-integration, Blinn-Phong with the paper's cone for the specular term
+ * or Gooch shading, from moment layers of the first-order table (vtkSecondOrderPreIntegration-
+ * Table::Moments) and the normals at both ends of each segment, interpolated as
+ * GradientInterpolation says; the lighting model is vtkVolumeShadingModel, with the
+ * renderer's directional lights (several are summed) and its two-sided lighting flag. Normals
+ * are VTK's: the normalised central-difference gradient of the scalar texture.
+ *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
  * flag and start and end where VTK's ray does. Composite blending of one-component scalars
- * (RGB or grey colour) without shading, enabled gradient opacity or 2D transfer functions is
- * pre-integrated; anything else is drawn by VTK's stock path after a warning. The sample
+ * (RGB or grey colour) without enabled gradient opacity or 2D transfer functions is
+ * pre-integrated, shaded or not (second order unshaded only), with directional lights only;
+ * anything else is drawn by VTK's stock path after a warning. The sample
  * distance is fixed (automatic adjustment is off) and must be positive: otherwise an error is
  * reported and nothing is drawn.
  */
@@ -40,6 +49,7 @@
 #include "hovrRenderingOpenGLModule.h" // For export macro
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
+#include <string> // For std::string
 #include <vector> // For std::vector
 
 class vtkOpenGLPreIntegrationTableBuilder;
@@ -47,6 +57,7 @@ class vtkOpenGLRenderWindow;
 class vtkPreIntegrationTableSizer;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
+class vtkVolumeShadingModel;
 class vtkVolumeTransferFunctionSampler;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkPreIntegrationVolumeMapper
@@ -261,6 +272,38 @@ public:
   vtkSecondOrderPreIntegrationTable* GetActiveTable();
   ///@}
 
+  ///@{
+  /**
+   * Shaded first order: how the normal is interpolated between the two samples of a segment
+   * (vtkVolumeShadingModel::GradientInterpolations: CONSTANT, LINEAR as Lum et al., NONLINEAR
+   * as Guetat et al.). Initial value is NONLINEAR.
+   */
+  virtual void SetGradientInterpolation(int mode);
+  virtual int GetGradientInterpolation();
+  ///@}
+
+  ///@{
+  /**
+   * Shaded first order: Gooch shading (Guetat et al.'s Eq. 11, tones and weights of
+   * GetShadingModel()) instead of Blinn-Phong. Initial value is false.
+   */
+  virtual void SetGooch(bool gooch);
+  virtual bool GetGooch();
+  vtkBooleanMacro(Gooch, bool);
+  ///@}
+
+  /**
+   * The lighting model of shaded frames: its coefficients and lights are taken from the volume
+   * property and the renderer at every frame; the other settings (Gooch tones, the bound of
+   * the non-linear normalisation) are the caller's.
+   */
+  vtkVolumeShadingModel* GetShadingModel() { return this->ShadingModel; }
+
+  /**
+   * Whether the last frame was drawn with shaded pre-integration.
+   */
+  vtkGetMacro(LastFrameShaded, bool);
+
   /**
    * Bytes of GPU memory held by the current table textures.
    */
@@ -288,8 +331,13 @@ protected:
   void WarnIfTransparent(vtkVolumeTransferFunctionSampler* sampler, const double range[2]);
 
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
-  const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars);
+  const char* GetStockFallbackReason(vtkRenderer* ren, vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
+  // Takes the lighting of a shaded first-order frame (lights from the renderer, coefficients
+  // from the property) and sets the GLSL's shading switches: the moment layers the table
+  // needs (0 unshaded), or -1 after an error (nothing can be drawn).
+  int PrepareShading(vtkRenderer* ren, vtkVolume* vol);
+  void SetShadingParameters(vtkShaderProgram* program);
   // Sets the active table's sizes: TableSize, or measured by the sizer when the data, the
   // transfer functions or the step changed. False after an error.
   bool SizeTable(vtkOpenGLRenderWindow* context,
@@ -320,6 +368,10 @@ protected:
   vtkMTimeType ScalarsCopyTime = 0;
 
   vtkSecondOrderPreIntegrationTable* FirstOrderTable; // deviation 0
+  vtkVolumeShadingModel* ShadingModel;
+  bool LastFrameShaded = false;
+  // The shading switches of the GLSL last inserted (empty: unshaded).
+  std::string ShadingSwitches;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
   vtkPreIntegrationTableSizer* TableSizer;
   double TableMemoryLimit = 64.0 * 1024.0 * 1024.0;

@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 // Proves that vtkPreIntegrationVolumeMapper handles bad and unusual input as documented:
-// a sample distance <= 0, a non-positive opacity unit distance, a 1-voxel-thick volume and an
+// shading is pre-integrated by first order and falls back for second order and positional
+// lights; a sample distance <= 0, a non-positive opacity unit distance, a 1-voxel-thick volume and an
 // empty image report an error and draw nothing (no crash); multi-component scalars warn and
 // draw exactly VTK's stock image; grey colour functions and disabled gradient opacity are
 // pre-integrated; NaN scalars give no NaN or infinity in the image and the
@@ -10,6 +11,7 @@
 // correctly: each agrees with its own CPU reference (GetTextureValueMapping).
 #include "hovrRenderTestUtilities.h"
 
+#include "vtkLight.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
@@ -215,10 +217,24 @@ int TestPreIntegrationVolumeMapperBadInput(int, char*[])
 
   // The other documented fallbacks: settings of the property or the mapper that the
   // first-order table cannot express.
+  // Shading: first order shades its segments; second order and positional lights fall back.
   property->ShadeOn();
-  CheckStockFallback(check, scene, data, "does not shade", "shading");
+  CheckPreIntegratedAgain(check, scene, data, "shading, first order");
+  check(scene.Mapper->GetLastFrameShaded(), "shading, first order: a shaded frame");
+  scene.Mapper->SetIntegrationToSecondOrder();
+  CheckStockFallback(check, scene, data, "does not shade", "shading, second order");
+  scene.Mapper->SetIntegrationToFirstOrder();
+  CheckPreIntegratedAgain(check, scene, data, "shading, second order");
+  vtkNew<vtkLight> lamp;
+  lamp->SetPositional(true);
+  lamp->SetPosition(0.0, 0.0, 5.0);
+  scene.View.GetRenderer()->AddLight(lamp);
+  CheckStockFallback(check, scene, data, "positional light", "a positional light");
+  scene.View.GetRenderer()->RemoveLight(lamp);
+  CheckPreIntegratedAgain(check, scene, data, "a positional light");
   property->ShadeOff();
   CheckPreIntegratedAgain(check, scene, data, "shading");
+  check(!scene.Mapper->GetLastFrameShaded(), "shading off: an unshaded frame");
 
   vtkNew<vtkPiecewiseFunction> gradientOpacity;
   gradientOpacity->AddPoint(0.0, 0.2);

@@ -1,0 +1,463 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkVolumeShadingModel.h"
+
+#include "vtkCamera.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkRenderer.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkVolumeShadingModel);
+
+namespace
+{
+double Dot(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Normalises v in place; a vector too short to have a direction becomes zero.
+void Normalize(double v[3])
+{
+  const double norm = std::sqrt(Dot(v, v));
+  for (int a = 0; a < 3; ++a)
+  {
+    v[a] = norm > 1e-300 ? v[a] / norm : 0.0;
+  }
+}
+
+// n, or -n when two-sided lighting turns it towards the direction d.
+void Facing(const double n[3], const double d[3], bool twoSided, double out[3])
+{
+  const double sign = twoSided && Dot(n, d) < 0.0 ? -1.0 : 1.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    out[a] = sign * n[a];
+  }
+}
+
+// The paper's cone (line 182): the first-order expansion of the lobe x^n at x = 1.
+double Cone(double x, double n)
+{
+  return 1.0 + n * (x - 1.0);
+}
+}
+
+//------------------------------------------------------------------------------
+vtkVolumeShadingModel::vtkVolumeShadingModel() = default;
+
+//------------------------------------------------------------------------------
+vtkVolumeShadingModel::~vtkVolumeShadingModel() = default;
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::SetFromProperty(vtkVolumeProperty* property)
+{
+  if (!property)
+  {
+    return;
+  }
+  this->SetAmbient(property->GetAmbient(0));
+  this->SetDiffuse(property->GetDiffuse(0));
+  this->SetSpecular(property->GetSpecular(0));
+  this->SetSpecularPower(std::max(property->GetSpecularPower(0), 1.0));
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::RemoveAllLights()
+{
+  if (!this->Lights.empty())
+  {
+    this->Lights.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::AddLight(const double towardLight[3],
+  const double diffuseColor[3],
+  const double specularColor[3],
+  bool headlight)
+{
+  Light light;
+  std::copy(towardLight, towardLight + 3, light.Direction);
+  Normalize(light.Direction);
+  std::copy(diffuseColor, diffuseColor + 3, light.Diffuse);
+  std::copy(specularColor, specularColor + 3, light.Specular);
+  light.Headlight = headlight;
+  this->Lights.push_back(light);
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeShadingModel::SetLightsFromRenderer(vtkRenderer* renderer)
+{
+  this->RemoveAllLights();
+  if (!renderer)
+  {
+    return 0;
+  }
+  this->SetTwoSidedLighting(renderer->GetTwoSidedLighting() != 0);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  int positional = 0;
+  vtkLightCollection* lights = renderer->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (!light->GetSwitch() || light->GetIntensity() <= 0.0)
+    {
+      continue;
+    }
+    if (light->GetPositional())
+    {
+      ++positional;
+      continue;
+    }
+    double position[4] = { 0, 0, 0, 1 }, focal[4] = { 0, 0, 0, 1 };
+    light->GetPosition(position);
+    light->GetFocalPoint(focal);
+    // Camera lights live in camera coordinates: the renderer moves them with the camera on
+    // each render, here the camera's light transform does it.
+    if (light->LightTypeIsCameraLight() && camera)
+    {
+      vtkMatrix4x4* toWorld = camera->GetCameraLightTransformMatrix();
+      toWorld->MultiplyPoint(position, position);
+      toWorld->MultiplyPoint(focal, focal);
+    }
+    const double direction[3] = { position[0] / position[3] - focal[0] / focal[3],
+      position[1] / position[3] - focal[1] / focal[3],
+      position[2] / position[3] - focal[2] / focal[3] };
+    double diffuse[3], specular[3];
+    light->GetDiffuseColor(diffuse);
+    light->GetSpecularColor(specular);
+    for (int c = 0; c < 3; ++c)
+    {
+      diffuse[c] *= light->GetIntensity();
+      specular[c] *= light->GetIntensity();
+    }
+    this->AddLight(direction, diffuse, specular, light->LightTypeIsHeadlight() != 0);
+  }
+  return positional;
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeShadingModel::TransformLights(vtkMatrix4x4* volumeMatrix)
+{
+  if (!volumeMatrix)
+  {
+    return true;
+  }
+  double inverse[16];
+  vtkMatrix4x4::Invert(volumeMatrix->GetData(), inverse);
+  if (!std::all_of(inverse, inverse + 16, [](double v) { return std::isfinite(v); }) ||
+    volumeMatrix->Determinant() == 0.0)
+  {
+    return false;
+  }
+  for (Light& light : this->Lights)
+  {
+    const double d[3] = { light.Direction[0], light.Direction[1], light.Direction[2] };
+    for (int r = 0; r < 3; ++r)
+    {
+      light.Direction[r] = inverse[4 * r] * d[0] + inverse[4 * r + 1] * d[1] + inverse[4 * r + 2] * d[2];
+    }
+    Normalize(light.Direction);
+  }
+  this->Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::GetLight(
+  int k, double towardLight[3], double diffuse[3], double specular[3], bool& headlight) const
+{
+  const Light& light = this->Lights.at(k);
+  std::copy(light.Direction, light.Direction + 3, towardLight);
+  std::copy(light.Diffuse, light.Diffuse + 3, diffuse);
+  std::copy(light.Specular, light.Specular + 3, specular);
+  headlight = light.Headlight;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::ShadePoint(
+  const double normal[3], const double view[3], const double colour[3], double rgb[3]) const
+{
+  const double n = this->SpecularPower;
+  if (this->Gooch)
+  {
+    const double nl = this->Lights.empty()
+      ? 0.0
+      : Dot(normal, this->Lights[0].Headlight ? view : this->Lights[0].Direction);
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] = 0.5 * (this->GoochCool[c] + this->GoochAlpha * this->Diffuse * colour[c]) * (1 + nl) +
+        0.5 * (this->GoochWarm[c] + this->GoochBeta * this->Diffuse * colour[c]) * (1 - nl);
+    }
+    return;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    rgb[c] = this->Ambient * colour[c];
+  }
+  for (const Light& light : this->Lights)
+  {
+    const double* l = light.Headlight ? view : light.Direction;
+    double h[3] = { l[0] + view[0], l[1] + view[1], l[2] + view[2] };
+    Normalize(h);
+    double nl = Dot(normal, l), nh = Dot(normal, h);
+    if (this->TwoSidedLighting)
+    {
+      nl = std::abs(nl);
+      nh = std::abs(nh);
+    }
+    const double specular = this->SpecularModel == CONE
+      ? std::max(Cone(nh, n), 0.0)
+      : (nh > 0.0 ? std::pow(nh, n) : 0.0);
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] += this->Diffuse * light.Diffuse[c] * std::max(nl, 0.0) * colour[c] +
+        this->Specular * light.Specular[c] * specular;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeShadingModel::ArcCoefficient(const double front[3], const double back[3]) const
+{
+  if (Dot(front, front) < 0.5 || Dot(back, back) < 0.5)
+  {
+    return 0.0; // no arc between a normal and no normal
+  }
+  // cos a by the half-angle identity: no acos, and a dot product just beyond -1 is harmless.
+  const double cosAngle = std::min(std::max(Dot(front, back), -1.0), 1.0);
+  const double ca = std::max(std::sqrt(0.5 * (1.0 + cosAngle)), this->MinimumCosHalfAngle);
+  return 4.0 * (1.0 - ca) / ca; // m = -r of Eq. 8
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeShadingModel::InteriorMaximum(double fh, double bh, double m, double& value)
+{
+  // p(u) = a0 + a1 u + a2 u^2 + a3 u^3 with the paper's a_k(H) (Eq. 8, r = -m).
+  const double a1 = bh - fh + m * fh;
+  const double a2 = m * (bh - 2.0 * fh);
+  const double a3 = m * (fh - bh);
+  double roots[2];
+  int count = 0;
+  if (std::abs(a3) < 1e-12 * (std::abs(a1) + std::abs(a2)) || a3 == 0.0)
+  {
+    if (a2 != 0.0)
+    {
+      roots[count++] = -a1 / (2.0 * a2);
+    }
+  }
+  else
+  {
+    const double disc = a2 * a2 - 3.0 * a1 * a3;
+    if (disc >= 0.0)
+    {
+      // The root without cancellation first, the other from the product of the roots.
+      const double q = -(a2 + std::copysign(std::sqrt(disc), a2));
+      roots[count++] = q / (3.0 * a3);
+      if (q != 0.0)
+      {
+        roots[count++] = a1 / q;
+      }
+    }
+  }
+  bool found = false;
+  for (int r = 0; r < count; ++r)
+  {
+    const double u = roots[r];
+    if (u > 0.0 && u < 1.0)
+    {
+      const double p = fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u));
+      value = found ? std::max(value, p) : p;
+      found = true;
+    }
+  }
+  return found;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
+  const double front[3],
+  const double back[3],
+  const double view[3],
+  double rgb[3]) const
+{
+  const double* J0 = moments[0];
+  const double* J1 = moments[1];
+  const double* J2 = moments[2];
+  const double* J3 = moments[3];
+  const double tent = moments[4][0];
+  const double n = this->SpecularPower;
+  const int mode = this->GradientInterpolation;
+  // The segment's unshaded colour and its opacity: I_0 = J_0 + J_1, I'_0 = J'_0 + J'_1.
+  double I0[4];
+  for (int c = 0; c < 4; ++c)
+  {
+    I0[c] = J0[c] + J1[c];
+  }
+  // The diffuse-type integral of the profile f(1-u) + b u (+ m (...)) for the normals' dot
+  // products f, b with a direction, channel c (3: the extinction-only moments).
+  auto profile = [&](double f, double b, double m, int c)
+  { return f * J0[c] + b * J1[c] + m * (f * J2[c] + b * J3[c]); };
+  // The constant interpolation's normal: the normalised average (zero if they cancel).
+  auto average = [](const double* a, const double* b, double out[3])
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      out[k] = a[k] + b[k];
+    }
+    Normalize(out);
+  };
+
+  if (this->Gooch)
+  {
+    const double* l = this->Lights.empty() ? nullptr : (this->Lights[0].Headlight ? view : this->Lights[0].Direction);
+    double p[4] = { 0, 0, 0, 0 };
+    if (l)
+    {
+      if (mode == CONSTANT)
+      {
+        double nc[3];
+        average(front, back, nc);
+        for (int c = 0; c < 4; ++c)
+        {
+          p[c] = Dot(nc, l) * I0[c];
+        }
+      }
+      else
+      {
+        // No cases: Gooch is linear in N . L, negative values included (line 234).
+        const double m = mode == NONLINEAR ? this->ArcCoefficient(front, back) : 0.0;
+        for (int c = 0; c < 4; ++c)
+        {
+          p[c] = profile(Dot(front, l), Dot(back, l), m, c);
+        }
+      }
+    }
+    const double a = this->GoochAlpha, b = this->GoochBeta;
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] = 0.5 * (this->GoochCool[c] + this->GoochWarm[c]) * I0[3] +
+        0.5 * this->Diffuse * (a + b) * I0[c] +
+        0.5 * (this->GoochCool[c] - this->GoochWarm[c]) * p[3] + 0.5 * this->Diffuse * (a - b) * p[c];
+    }
+    return;
+  }
+
+  for (int c = 0; c < 3; ++c)
+  {
+    rgb[c] = this->Ambient * I0[c];
+  }
+  const bool twoSided = this->TwoSidedLighting;
+  for (const Light& light : this->Lights)
+  {
+    const double* l = light.Headlight ? view : light.Direction;
+    double h[3] = { l[0] + view[0], l[1] + view[1], l[2] + view[2] };
+    Normalize(h);
+
+    // Diffuse: two-sided lighting turns each normal towards the light before interpolating.
+    double nf[3], nb[3];
+    Facing(front, l, twoSided, nf);
+    Facing(back, l, twoSided, nb);
+    double diffuse[3] = { 0, 0, 0 };
+    if (mode == CONSTANT)
+    {
+      double nc[3];
+      average(nf, nb, nc);
+      const double d = std::max(Dot(nc, l), 0.0);
+      for (int c = 0; c < 3; ++c)
+      {
+        diffuse[c] = d * I0[c];
+      }
+    }
+    else
+    {
+      const double f = Dot(nf, l), b = Dot(nb, l);
+      const double m = mode == NONLINEAR ? this->ArcCoefficient(nf, nb) : 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        // The paper's three cases (lines 162-173): a negative end fades the other one out.
+        diffuse[c] = f >= 0.0 && b >= 0.0 ? profile(f, b, m, c)
+          : f > 0.0                       ? f * J0[c]
+          : b > 0.0                       ? b * J1[c]
+                                          : 0.0;
+      }
+    }
+
+    // Specular, the cone: the normals turned towards H.
+    double specular = 0.0;
+    if (this->Specular != 0.0)
+    {
+      Facing(front, h, twoSided, nf);
+      Facing(back, h, twoSided, nb);
+      const double fh = Dot(nf, h), bh = Dot(nb, h);
+      if (mode == CONSTANT)
+      {
+        double nc[3];
+        average(nf, nb, nc);
+        specular = std::max(Cone(Dot(nc, h), n), 0.0) * I0[3];
+      }
+      else if (mode == LINEAR)
+      {
+        specular = std::max(Cone(fh, n), 0.0) * J0[3] + std::max(Cone(bh, n), 0.0) * J1[3];
+      }
+      else
+      {
+        const double threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
+        const double m = this->ArcCoefficient(nf, nb);
+        if (fh > threshold && bh > threshold)
+        {
+          specular = Cone(fh, n) * J0[3] + Cone(bh, n) * J1[3] + n * m * (fh * J2[3] + bh * J3[3]);
+        }
+        else if (fh > threshold)
+        {
+          // The cone's value faded out, not its argument: the printed formula (line 210)
+          // fades N . H inside the cone and turns negative.
+          specular = Cone(fh, n) * J0[3];
+        }
+        else if (bh > threshold)
+        {
+          specular = Cone(bh, n) * J1[3];
+        }
+        else
+        {
+          // A highlight between the samples (lines 211-215): its peak value times the tent.
+          double peak;
+          if (InteriorMaximum(fh, bh, m, peak) && Cone(peak, n) > 0.0)
+          {
+            specular = Cone(peak, n) * tent;
+          }
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] += this->Diffuse * light.Diffuse[c] * diffuse[c] +
+        this->Specular * light.Specular[c] * specular;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeShadingModel::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Ambient: " << this->Ambient << "\n";
+  os << indent << "Diffuse: " << this->Diffuse << "\n";
+  os << indent << "Specular: " << this->Specular << "\n";
+  os << indent << "SpecularPower: " << this->SpecularPower << "\n";
+  os << indent << "SpecularModel: " << (this->SpecularModel == CONE ? "Cone" : "Lobe") << "\n";
+  os << indent << "TwoSidedLighting: " << (this->TwoSidedLighting ? "On" : "Off") << "\n";
+  os << indent << "Gooch: " << (this->Gooch ? "On" : "Off") << "\n";
+  os << indent << "GradientInterpolation: " << this->GradientInterpolation << "\n";
+  os << indent << "MinimumCosHalfAngle: " << this->MinimumCosHalfAngle << "\n";
+  os << indent << "Lights: " << this->Lights.size() << "\n";
+}

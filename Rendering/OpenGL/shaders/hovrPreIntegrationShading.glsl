@@ -1,0 +1,218 @@
+// hovr: shaded first-order pre-integration with non-linear gradient interpolation (Guetat,
+// Ancel, Marchesin and Dischler 2010). A segment's shaded colour is a sum of 2D moment tables
+// (J_0..J_3 of the colour-weighted and of the plain extinction, layers of the 3D texture
+// hovr_preintTable over (chord centre, chord, layer)) weighted by dot products of the normals
+// at its two ends with each light's direction and half vector. The GLSL mirror of
+// vtkVolumeShadingModel::ShadeSegment(), operation for operation.
+//
+// Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2, 4 or 5 moment layers),
+// HOVR_INTERPOLATION (0 constant, 1 linear, 2 non-linear), HOVR_GOOCH (Eq. 11 instead of
+// Blinn-Phong). Normals are VTK's: the normalised central-difference gradient
+// (computeGradient) in the volume's object coordinates, where the lights are given.
+
+uniform sampler3D hovr_preintTable;
+uniform int hovr_numberOfLights;
+uniform vec3 hovr_lightDirection[8]; // towards the light
+uniform vec3 hovr_lightDiffuse[8];
+uniform vec3 hovr_lightSpecular[8];
+uniform int hovr_lightIsHead[8]; // 1: shines along the view direction
+uniform vec4 hovr_lighting;      // Ka, Kd, Ks, n
+uniform float hovr_minimumCosHalfAngle;
+uniform int hovr_twoSided;
+uniform vec3 hovr_goochCool;
+uniform vec3 hovr_goochWarm;
+uniform vec2 hovr_goochWeights; // a, b
+
+vec3 hovr_view; // towards the eye, per ray
+
+vec3 hovr_normalAt(vec3 pos)
+{
+  vec3 g = computeGradient(pos, 0, in_volume[0], 0).xyz;
+  float len = length(g);
+  return len > 0.0 ? g / len : vec3(0.0);
+}
+
+vec4 hovr_layer(int l, vec2 coord)
+{
+  return texture(hovr_preintTable, vec3(coord, (float(l) + 0.5) / float(HOVR_LAYERS)));
+}
+
+// n, or -n when two-sided lighting turns it towards d.
+vec3 hovr_facing(vec3 n, vec3 d)
+{
+  return (hovr_twoSided != 0 && dot(n, d) < 0.0) ? -n : n;
+}
+
+// The normalised average of two normals (zero if they cancel).
+vec3 hovr_average(vec3 a, vec3 b)
+{
+  vec3 s = a + b;
+  float len = length(s);
+  return len > 1e-30 ? s / len : vec3(0.0);
+}
+
+// m = 4 (1 - cos a) / cos a (= -r of Eq. 8), cos a by the half-angle identity and clamped.
+float hovr_arc(vec3 a, vec3 b)
+{
+  if (dot(a, a) < 0.5 || dot(b, b) < 0.5)
+  {
+    return 0.0;
+  }
+  float ca = sqrt(0.5 * (1.0 + clamp(dot(a, b), -1.0, 1.0)));
+  ca = max(ca, hovr_minimumCosHalfAngle);
+  return 4.0 * (1.0 - ca) / ca;
+}
+
+// The paper's cone (line 182).
+float hovr_cone(float x)
+{
+  return 1.0 + hovr_lighting.w * (x - 1.0);
+}
+
+#if HOVR_LAYERS > 4
+// The largest interior critical value of p(u) = fh (1-u) + bh u + m (fh u (1-u)^2 + bh u^2
+// (1-u)) for u in (0, 1): the highlight between two samples (line 211).
+bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
+{
+  float a1 = bh - fh + m * fh;
+  float a2 = m * (bh - 2.0 * fh);
+  float a3 = m * (fh - bh);
+  float roots[2];
+  int count = 0;
+  if (a3 == 0.0 || abs(a3) < 1e-6 * (abs(a1) + abs(a2)))
+  {
+    if (a2 != 0.0)
+    {
+      roots[count++] = -a1 / (2.0 * a2);
+    }
+  }
+  else
+  {
+    float disc = a2 * a2 - 3.0 * a1 * a3;
+    if (disc >= 0.0)
+    {
+      float q = -(a2 + (a2 < 0.0 ? -1.0 : 1.0) * sqrt(disc));
+      roots[count++] = q / (3.0 * a3);
+      if (q != 0.0)
+      {
+        roots[count++] = a1 / q;
+      }
+    }
+  }
+  bool found = false;
+  value = 0.0;
+  for (int r = 0; r < count; ++r)
+  {
+    float u = roots[r];
+    if (u > 0.0 && u < 1.0)
+    {
+      float p = fh * (1.0 - u) + bh * u + m * (fh * u * (1.0 - u) * (1.0 - u) + bh * u * u * (1.0 - u));
+      value = found ? max(value, p) : p;
+      found = true;
+    }
+  }
+  return found;
+}
+#endif
+
+// The shaded segment (premultiplied RGB, opacity) between scalars sFront and sBack (centre-
+// axis coordinates) with unit (or zero) normals nFront and nBack.
+vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
+{
+  vec2 coord = vec2(0.5 * (sFront + sBack), 0.5 + (sBack - sFront) * hovr_chordScale);
+  vec4 J0 = hovr_layer(0, coord);
+  vec4 J1 = hovr_layer(1, coord);
+#if HOVR_LAYERS > 2
+  vec4 J2 = hovr_layer(2, coord);
+  vec4 J3 = hovr_layer(3, coord);
+#else
+  vec4 J2 = vec4(0.0);
+  vec4 J3 = vec4(0.0);
+#endif
+  vec4 I0 = J0 + J1; // the unshaded segment: colour and opacity
+  vec3 rgb;
+#if HOVR_GOOCH
+  vec3 l = hovr_numberOfLights > 0
+    ? (hovr_lightIsHead[0] != 0 ? hovr_view : hovr_lightDirection[0])
+    : vec3(0.0);
+#if HOVR_INTERPOLATION == 0
+  vec3 nc = hovr_average(nFront, nBack);
+  vec4 p = dot(nc, l) * I0;
+#else
+#if HOVR_INTERPOLATION == 2
+  float m = hovr_arc(nFront, nBack);
+#else
+  float m = 0.0;
+#endif
+  float f = dot(nFront, l), b = dot(nBack, l);
+  vec4 p = f * J0 + b * J1 + m * (f * J2 + b * J3);
+#endif
+  float a = hovr_goochWeights.x, bw = hovr_goochWeights.y, kd = hovr_lighting.y;
+  rgb = 0.5 * (hovr_goochCool + hovr_goochWarm) * I0.a + 0.5 * kd * (a + bw) * I0.rgb +
+    0.5 * (hovr_goochCool - hovr_goochWarm) * p.a + 0.5 * kd * (a - bw) * p.rgb;
+#else
+  rgb = hovr_lighting.x * I0.rgb;
+  float n = hovr_lighting.w;
+  for (int k = 0; k < hovr_numberOfLights; ++k)
+  {
+    vec3 l = hovr_lightIsHead[k] != 0 ? hovr_view : hovr_lightDirection[k];
+    vec3 h = hovr_average(l, hovr_view);
+    vec3 nf = hovr_facing(nFront, l);
+    vec3 nb = hovr_facing(nBack, l);
+    vec3 diffuse;
+#if HOVR_INTERPOLATION == 0
+    diffuse = max(dot(hovr_average(nf, nb), l), 0.0) * I0.rgb;
+#else
+    float f = dot(nf, l), b = dot(nb, l);
+#if HOVR_INTERPOLATION == 2
+    float m = hovr_arc(nf, nb);
+#else
+    float m = 0.0;
+#endif
+    // The paper's three cases (lines 162-173): a negative end fades the other one out.
+    diffuse = (f >= 0.0 && b >= 0.0) ? f * J0.rgb + b * J1.rgb + m * (f * J2.rgb + b * J3.rgb)
+      : f > 0.0                      ? f * J0.rgb
+      : b > 0.0                      ? b * J1.rgb
+                                     : vec3(0.0);
+#endif
+    float specular = 0.0;
+    if (hovr_lighting.z != 0.0)
+    {
+      nf = hovr_facing(nFront, h);
+      nb = hovr_facing(nBack, h);
+      float fh = dot(nf, h), bh = dot(nb, h);
+#if HOVR_INTERPOLATION == 0
+      specular = max(hovr_cone(dot(hovr_average(nf, nb), h)), 0.0) * I0.a;
+#elif HOVR_INTERPOLATION == 1
+      specular = max(hovr_cone(fh), 0.0) * J0.a + max(hovr_cone(bh), 0.0) * J1.a;
+#else
+      float threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
+      float ms = hovr_arc(nf, nb);
+      if (fh > threshold && bh > threshold)
+      {
+        specular = hovr_cone(fh) * J0.a + hovr_cone(bh) * J1.a + n * ms * (fh * J2.a + bh * J3.a);
+      }
+      else if (fh > threshold)
+      {
+        specular = hovr_cone(fh) * J0.a; // the cone's value faded, not its argument
+      }
+      else if (bh > threshold)
+      {
+        specular = hovr_cone(bh) * J1.a;
+      }
+      else
+      {
+        float peak;
+        if (hovr_interiorMaximum(fh, bh, ms, peak) && hovr_cone(peak) > 0.0)
+        {
+          specular = hovr_cone(peak) * hovr_layer(4, coord).r;
+        }
+      }
+#endif
+    }
+    rgb += hovr_lighting.y * hovr_lightDiffuse[k] * diffuse +
+      hovr_lighting.z * hovr_lightSpecular[k] * specular;
+  }
+#endif
+  return vec4(rgb, I0.a);
+}
