@@ -74,6 +74,7 @@ public:
   // turn that its narrowest lobe needs.
   const vtkVolumeShadingModel* Shading = nullptr;
   double PiecesPerRadian = 0.0;
+  const double* Normals = nullptr; // 3 per point: the normal array, instead of differences
 
   RayCaster(const VolumeGrid& grid,
     const vtkCameraRayModel* rays,
@@ -396,12 +397,22 @@ public:
     for (int c = 0; c < 8; ++c)
     {
       const int p[3] = { cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + ((c >> 2) & 1) };
-      double g[3];
-      this->PointGradient(p, g);
       double* w = gradients[c];
-      for (int a = 0; a < 3; ++a)
+      if (this->Normals)
       {
-        w[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
+        const int* dims = this->Grid.Dims;
+        const double* n =
+          this->Normals + 3 * (p[0] + dims[0] * (p[1] + static_cast<vtkIdType>(dims[1]) * p[2]));
+        std::copy(n, n + 3, w);
+      }
+      else
+      {
+        double g[3];
+        this->PointGradient(p, g);
+        for (int a = 0; a < 3; ++a)
+        {
+          w[a] = m[a] * g[0] + m[4 + a] * g[1] + m[8 + a] * g[2];
+        }
       }
       const double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
       if (!(norm > 0.0) || !std::isfinite(norm))
@@ -541,6 +552,7 @@ vtkVolumeReferenceIntegrator::vtkVolumeReferenceIntegrator() = default;
 vtkVolumeReferenceIntegrator::~vtkVolumeReferenceIntegrator()
 {
   this->SetShadingModel(nullptr);
+  this->SetNormalArrayName(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -669,6 +681,7 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   caster.Specular = this->VolumeProperty->GetSpecular(0);
   caster.SpecularPower = this->VolumeProperty->GetSpecularPower(0);
   vtkNew<vtkVolumeShadingModel> headlight;
+  std::vector<double> normals;
   if (caster.Shade && this->BlendMode == COMPOSITE_BLEND)
   {
     vtkVolumeShadingModel* shading = this->ShadingModel;
@@ -681,6 +694,23 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
       shading->AddLight(direction, white, white, true);
     }
     caster.Shading = shading;
+    if (this->NormalArrayName && *this->NormalArrayName)
+    {
+      vtkDataArray* array = input->GetPointData()->GetArray(this->NormalArrayName);
+      if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
+      {
+        vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
+                                          << "\" names no point array of 3-component vectors, "
+                                             "one per point; the image is empty.");
+        return 1;
+      }
+      normals.resize(3 * static_cast<size_t>(n));
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        array->GetTuple(i, normals.data() + 3 * i);
+      }
+      caster.Normals = normals.data();
+    }
     // A lobe of power n is about 1/sqrt(n) radians wide; the cone's as wide.
     const double lobes = shading->GetSpecular() != 0.0 && !shading->GetGooch()
       ? std::sqrt(shading->GetSpecularPower())
@@ -750,4 +780,6 @@ void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "IsoPerturbation: " << this->IsoPerturbation << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
   os << indent << "ShadingModel: " << this->ShadingModel << "\n";
+  os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")
+     << "\n";
 }

@@ -131,6 +131,17 @@ public:
   vtkGetObjectMacro(ShadingModel, vtkVolumeShadingModel);
   ///@}
 
+  ///@{
+  /**
+   * Composite shading: the point array of 3-component vectors whose trilinear interpolation,
+   * normalised, is the normal (as vtkPreIntegrationVolumeMapper::NormalArrayName), instead of
+   * the gradient; in world units (the data's coordinates). nullptr or empty: the gradient.
+   * Initial value is nullptr.
+   */
+  vtkSetStringMacro(NormalArrayName);
+  vtkGetStringMacro(NormalArrayName);
+  ///@}
+
   /**
    * Number of integration pieces (composite) or cells (other blend modes) evaluated by the
    * last update: the samples per frame.
@@ -173,6 +184,7 @@ protected:
   double IsoPerturbation = 1e-6;
   vtkIdType NumberOfSamples = 0;
   vtkVolumeShadingModel* ShadingModel = nullptr;
+  char* NormalArrayName = nullptr;
 
 private:
   vtkVolumeReferenceIntegrator(const vtkVolumeReferenceIntegrator&) = delete;

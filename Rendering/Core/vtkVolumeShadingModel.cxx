@@ -31,14 +31,34 @@ void Normalize(double v[3])
   }
 }
 
-// n, or -n when two-sided lighting turns it towards the direction d.
-void Facing(const double n[3], const double d[3], bool twoSided, double out[3])
+// N . d as a side is lit by it: its absolute value with two-sided lighting.
+double Side(double x, bool twoSided)
 {
-  const double sign = twoSided && Dot(n, d) < 0.0 ? -1.0 : 1.0;
-  for (int a = 0; a < 3; ++a)
+  return twoSided ? std::abs(x) : x;
+}
+
+// The dot products of a segment's end normals with a direction, as its shading sees them.
+// Two-sided lighting lights a side by |N . d|: ends that both face away are lit as if both
+// faced d, and ends that face opposite ways (Split) are faded out each on its own, because
+// the field's normal between them crosses the plane perpendicular to d, where N . d = 0.
+// Mirroring one end instead sends the interpolated normal through d and adds light the field
+// does not have (the paper notes the gain, line 173).
+struct Ends
+{
+  double Front, Back;
+  bool Split;
+};
+Ends Orient(double f, double b, bool twoSided)
+{
+  if (twoSided && f < 0.0 && b < 0.0)
   {
-    out[a] = sign * n[a];
+    return { -f, -b, false };
   }
+  if (twoSided && (f < 0.0) != (b < 0.0))
+  {
+    return { std::abs(f), std::abs(b), true };
+  }
+  return { f, b, false };
 }
 
 // The paper's cone (line 182): the first-order expansion of the lobe x^n at x = 1.
@@ -363,16 +383,16 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
     double h[3] = { l[0] + view[0], l[1] + view[1], l[2] + view[2] };
     Normalize(h);
 
-    // Diffuse: two-sided lighting turns each normal towards the light before interpolating.
-    double nf[3], nb[3];
-    Facing(front, l, twoSided, nf);
-    Facing(back, l, twoSided, nb);
+    // The arc between the normals, for the non-linear interpolation.
+    const double m = mode == NONLINEAR ? this->ArcCoefficient(front, back) : 0.0;
+    double nc[3]; // the constant interpolation's normal
+    average(front, back, nc);
+
+    // Diffuse.
     double diffuse[3] = { 0, 0, 0 };
     if (mode == CONSTANT)
     {
-      double nc[3];
-      average(nf, nb, nc);
-      const double d = std::max(Dot(nc, l), 0.0);
+      const double d = Side(Dot(nc, l), twoSided);
       for (int c = 0; c < 3; ++c)
       {
         diffuse[c] = d * I0[c];
@@ -380,61 +400,55 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
     }
     else
     {
-      const double f = Dot(nf, l), b = Dot(nb, l);
-      const double m = mode == NONLINEAR ? this->ArcCoefficient(nf, nb) : 0.0;
+      const Ends e = Orient(Dot(front, l), Dot(back, l), twoSided);
       for (int c = 0; c < 3; ++c)
       {
         // The paper's three cases (lines 162-173): a negative end fades the other one out.
-        diffuse[c] = f >= 0.0 && b >= 0.0 ? profile(f, b, m, c)
-          : f > 0.0                       ? f * J0[c]
-          : b > 0.0                       ? b * J1[c]
-                                          : 0.0;
+        diffuse[c] = mode == LINEAR || e.Split
+          ? std::max(e.Front, 0.0) * J0[c] + std::max(e.Back, 0.0) * J1[c]
+          : e.Front >= 0.0 && e.Back >= 0.0 ? profile(e.Front, e.Back, m, c)
+          : e.Front > 0.0                   ? e.Front * J0[c]
+          : e.Back > 0.0                    ? e.Back * J1[c]
+                                            : 0.0;
       }
     }
 
-    // Specular, the cone: the normals turned towards H.
+    // Specular, the cone.
     double specular = 0.0;
     if (this->Specular != 0.0)
     {
-      Facing(front, h, twoSided, nf);
-      Facing(back, h, twoSided, nb);
-      const double fh = Dot(nf, h), bh = Dot(nb, h);
+      const Ends e = Orient(Dot(front, h), Dot(back, h), twoSided);
+      const double fh = e.Front, bh = e.Back;
+      const double threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
       if (mode == CONSTANT)
       {
-        double nc[3];
-        average(nf, nb, nc);
-        specular = std::max(Cone(Dot(nc, h), n), 0.0) * I0[3];
+        specular = std::max(Cone(Side(Dot(nc, h), twoSided), n), 0.0) * I0[3];
       }
-      else if (mode == LINEAR)
+      else if (mode == LINEAR || e.Split)
       {
         specular = std::max(Cone(fh, n), 0.0) * J0[3] + std::max(Cone(bh, n), 0.0) * J1[3];
       }
+      else if (fh > threshold && bh > threshold)
+      {
+        specular = Cone(fh, n) * J0[3] + Cone(bh, n) * J1[3] + n * m * (fh * J2[3] + bh * J3[3]);
+      }
+      else if (fh > threshold)
+      {
+        // The cone's value faded out, not its argument: the printed formula (line 210)
+        // fades N . H inside the cone and turns negative.
+        specular = Cone(fh, n) * J0[3];
+      }
+      else if (bh > threshold)
+      {
+        specular = Cone(bh, n) * J1[3];
+      }
       else
       {
-        const double threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
-        const double m = this->ArcCoefficient(nf, nb);
-        if (fh > threshold && bh > threshold)
+        // A highlight between the samples (lines 211-215): its peak value times the tent.
+        double peak;
+        if (InteriorMaximum(fh, bh, m, peak) && Cone(peak, n) > 0.0)
         {
-          specular = Cone(fh, n) * J0[3] + Cone(bh, n) * J1[3] + n * m * (fh * J2[3] + bh * J3[3]);
-        }
-        else if (fh > threshold)
-        {
-          // The cone's value faded out, not its argument: the printed formula (line 210)
-          // fades N . H inside the cone and turns negative.
-          specular = Cone(fh, n) * J0[3];
-        }
-        else if (bh > threshold)
-        {
-          specular = Cone(bh, n) * J1[3];
-        }
-        else
-        {
-          // A highlight between the samples (lines 211-215): its peak value times the tent.
-          double peak;
-          if (InteriorMaximum(fh, bh, m, peak) && Cone(peak, n) > 0.0)
-          {
-            specular = Cone(peak, n) * tent;
-          }
+          specular = Cone(peak, n) * tent;
         }
       }
     }

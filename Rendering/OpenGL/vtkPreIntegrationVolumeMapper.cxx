@@ -10,6 +10,7 @@
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
 #include "vtkPreIntegrationTableSizer.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
@@ -68,6 +69,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , TableSizer(vtkPreIntegrationTableSizer::New())
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
+  , NormalTexture(vtkTextureObject::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
 {
@@ -83,6 +85,8 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
+  this->NormalTexture->Delete();
+  this->SetNormalArrayName(nullptr);
   if (this->ScalarsCopy)
   {
     this->ScalarsCopy->Delete();
@@ -308,7 +312,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
   const int layers = this->PrepareShading(ren, vol);
-  if (layers < 0)
+  if (layers < 0 || (layers > 0 && !this->UploadNormals(ren, dims)))
   {
     return DrawNothing;
   }
@@ -382,7 +386,9 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
     const int mode = model->GetGradientInterpolation();
     // The moment layers the interpolation reads: non-linear Blinn-Phong also the tent.
     layers = mode == vtkVolumeShadingModel::NONLINEAR ? (model->GetGooch() ? 4 : 5) : 2;
-    switches = "#define HOVR_LAYERS " + std::to_string(layers) +
+    const bool normals = this->NormalArrayName && *this->NormalArrayName;
+    switches = std::string("#define HOVR_NORMALS ") + (normals ? "1" : "0") +
+      "\n#define HOVR_LAYERS " + std::to_string(layers) +
       "\n#define HOVR_INTERPOLATION " + std::to_string(mode) + "\n#define HOVR_GOOCH " +
       (model->GetGooch() ? "1" : "0") + "\n";
   }
@@ -395,6 +401,57 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
 }
 
 //------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::UploadNormals(vtkRenderer* ren, const int dims[3])
+{
+  if (!this->NormalArrayName || !*this->NormalArrayName)
+  {
+    this->NormalTexture->ReleaseGraphicsResources(ren->GetRenderWindow());
+    this->UploadedNormals = nullptr;
+    this->NormalTextureMemorySize = 0;
+    return true;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkDataArray* normals = input ? input->GetPointData()->GetArray(this->NormalArrayName) : nullptr;
+  const vtkIdType points = static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2];
+  if (!normals || normals->GetNumberOfComponents() != 3 || normals->GetNumberOfTuples() != points)
+  {
+    vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
+                                      << "\" names no point array of 3-component vectors, one "
+                                         "per point of the volume; not drawing.");
+    return false;
+  }
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (this->NormalTexture->GetContext() == context && this->UploadedNormals == normals &&
+    this->UploadedNormalsTime == normals->GetMTime() && this->NormalTexture->GetHandle() != 0)
+  {
+    return true;
+  }
+  vtkNew<vtkFloatArray> values; // float, whatever the array's type
+  values->DeepCopy(normals);
+  this->NormalTexture->ReleaseGraphicsResources(context);
+  this->NormalTexture->SetContext(context);
+  this->NormalTexture->SetInternalFormat(GL_RGB32F);
+  this->NormalTexture->SetFormat(GL_RGB);
+  this->NormalTexture->SetDataType(GL_FLOAT);
+  if (!this->NormalTexture->Create3DFromRaw(
+        dims[0], dims[1], dims[2], 3, VTK_FLOAT, values->GetVoidPointer(0)))
+  {
+    vtkErrorMacro("Could not create the " << dims[0] << " x " << dims[1] << " x " << dims[2]
+                                          << " normal texture; not drawing.");
+    return false;
+  }
+  this->NormalTexture->SetWrapS(vtkTextureObject::ClampToEdge);
+  this->NormalTexture->SetWrapT(vtkTextureObject::ClampToEdge);
+  this->NormalTexture->SetWrapR(vtkTextureObject::ClampToEdge);
+  this->NormalTexture->SetMinificationFilter(vtkTextureObject::Linear);
+  this->NormalTexture->SetMagnificationFilter(vtkTextureObject::Linear);
+  this->UploadedNormals = normals;
+  this->UploadedNormalsTime = normals->GetMTime();
+  this->NormalTextureMemorySize = points * 3 * static_cast<vtkIdType>(sizeof(float));
+  return true;
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   vtkDataArray* scalars,
   int cellFlag,
@@ -402,8 +459,10 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
 {
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
-  const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
-                                  : vtkTextureObject::GetMaximumTextureSize(context);
+  // Second order and shaded first order (moment layers) are 3D textures.
+  const int maxSize = secondOrder || table->GetMoments() > 0
+    ? vtkTextureObject::GetMaximumTextureSize3D(context)
+    : vtkTextureObject::GetMaximumTextureSize(context);
   const int limit = std::min(maxSize > 0 ? maxSize : 2048, MaximumAxisSize);
   const bool measurePrefilter =
     this->TablePrefilter == PREFILTER_AUTOMATIC && !secondOrder && this->TableSize == 0;
@@ -443,7 +502,9 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     return true;
   }
   const int precision = this->GetEffectiveTablePrecision();
-  static const int bytes[4] = { 16, 4, 8, 16 };
+  // Bytes per entry, all moment layers of a shaded table included.
+  const int layers = secondOrder ? 1 : std::max(table->GetMoments(), 1);
+  const int bytes[4] = { 16 * layers, 4 * layers, 8 * layers, 16 * layers };
   // Measured again only when something it depends on changed.
   const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
     static_cast<double>(scalars->GetMTime()),
@@ -712,6 +773,10 @@ void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
 {
   this->TableTexture->Activate();
   this->EmptyRunsTexture->Activate();
+  if (this->UploadedNormals)
+  {
+    this->NormalTexture->Activate();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -719,6 +784,10 @@ void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
 {
   this->TableTexture->Deactivate();
   this->EmptyRunsTexture->Deactivate();
+  if (this->UploadedNormals)
+  {
+    this->NormalTexture->Deactivate();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -805,6 +874,10 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
     }
     head[k] = headlight ? 1 : 0;
   }
+  if (this->UploadedNormals)
+  {
+    program->SetUniformi("hovr_normals", this->NormalTexture->GetTextureUnit());
+  }
   program->SetUniformi("hovr_numberOfLights", count);
   program->SetUniform3fv("hovr_lightDirection", MaximumLights, direction);
   program->SetUniform3fv("hovr_lightDiffuse", MaximumLights, diffuse);
@@ -835,6 +908,9 @@ void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
   this->EmptyRunsTexture->ReleaseGraphicsResources(window);
+  this->NormalTexture->ReleaseGraphicsResources(window);
+  this->UploadedNormals = nullptr;
+  this->NormalTextureMemorySize = 0;
   this->UploadedTable = nullptr;
   this->UploadedBuildCount = -1;
   this->TableTextureMemorySize = 0;
@@ -859,5 +935,9 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VolumeTextureMemorySize: " << this->VolumeTextureMemorySize << "\n";
   os << indent << "VolumeCopyMemorySize: " << this->VolumeCopyMemorySize << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
+  os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")
+     << "\n";
+  os << indent << "GradientInterpolation: " << this->GetGradientInterpolation() << "\n";
+  os << indent << "Gooch: " << this->GetGooch() << "\n";
   os << indent << "TableMemoryLimit: " << static_cast<vtkIdType>(this->TableMemoryLimit) << "\n";
 }

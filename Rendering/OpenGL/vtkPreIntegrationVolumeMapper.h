@@ -292,6 +292,24 @@ public:
   vtkBooleanMacro(Gooch, bool);
   ///@}
 
+  ///@{
+  /**
+   * Shaded first order: the point array of 3-component vectors to take as the normals
+   * (interpolated trilinearly and normalised), such as the output of vtkGradientExaggeration;
+   * nullptr or empty: VTK's central-difference gradient of the scalar texture. The vectors are
+   * in the data's coordinates (as vtkImageGradient's) and uploaded as a float texture (12
+   * bytes per point) when the array changes. A name the input lacks, or an array that is not
+   * 3 components per point, is an error: nothing is drawn. Initial value is nullptr.
+   */
+  vtkSetStringMacro(NormalArrayName);
+  vtkGetStringMacro(NormalArrayName);
+  ///@}
+
+  /**
+   * Bytes of GPU memory held by the normal texture (0 without NormalArrayName).
+   */
+  vtkGetMacro(NormalTextureMemorySize, vtkIdType);
+
   /**
    * The lighting model of shaded frames: its coefficients and lights are taken from the volume
    * property and the renderer at every frame; the other settings (Gooch tones, the bound of
@@ -338,6 +356,8 @@ protected:
   // needs (0 unshaded), or -1 after an error (nothing can be drawn).
   int PrepareShading(vtkRenderer* ren, vtkVolume* vol);
   void SetShadingParameters(vtkShaderProgram* program);
+  // Uploads the NormalArrayName array as a 3D texture if it changed; false after an error.
+  bool UploadNormals(vtkRenderer* ren, const int dims[3]);
   // Sets the active table's sizes: TableSize, or measured by the sizer when the data, the
   // transfer functions or the step changed. False after an error.
   bool SizeTable(vtkOpenGLRenderWindow* context,
@@ -370,6 +390,12 @@ protected:
   vtkSecondOrderPreIntegrationTable* FirstOrderTable; // deviation 0
   vtkVolumeShadingModel* ShadingModel;
   bool LastFrameShaded = false;
+  char* NormalArrayName = nullptr;
+  vtkTextureObject* NormalTexture;
+  vtkIdType NormalTextureMemorySize = 0;
+  // What the normal texture holds.
+  vtkDataArray* UploadedNormals = nullptr;
+  vtkMTimeType UploadedNormalsTime = 0;
   // The shading switches of the GLSL last inserted (empty: unshaded).
   std::string ShadingSwitches;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;

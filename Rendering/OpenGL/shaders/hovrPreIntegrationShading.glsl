@@ -7,8 +7,9 @@
 //
 // Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2, 4 or 5 moment layers),
 // HOVR_INTERPOLATION (0 constant, 1 linear, 2 non-linear), HOVR_GOOCH (Eq. 11 instead of
-// Blinn-Phong). Normals are VTK's: the normalised central-difference gradient
-// (computeGradient) in the volume's object coordinates, where the lights are given.
+// Blinn-Phong), HOVR_NORMALS (normals from the texture hovr_normals instead of VTK's
+// normalised central-difference gradient, computeGradient), both in the volume's object
+// coordinates, where the lights are given.
 
 uniform sampler3D hovr_preintTable;
 uniform int hovr_numberOfLights;
@@ -25,9 +26,17 @@ uniform vec2 hovr_goochWeights; // a, b
 
 vec3 hovr_view; // towards the eye, per ray
 
+#if HOVR_NORMALS
+uniform sampler3D hovr_normals; // the normal array, trilinear
+#endif
+
 vec3 hovr_normalAt(vec3 pos)
 {
+#if HOVR_NORMALS
+  vec3 g = texture(hovr_normals, pos).xyz;
+#else
   vec3 g = computeGradient(pos, 0, in_volume[0], 0).xyz;
+#endif
   float len = length(g);
   return len > 0.0 ? g / len : vec3(0.0);
 }
@@ -37,10 +46,25 @@ vec4 hovr_layer(int l, vec2 coord)
   return texture(hovr_preintTable, vec3(coord, (float(l) + 0.5) / float(HOVR_LAYERS)));
 }
 
-// n, or -n when two-sided lighting turns it towards d.
-vec3 hovr_facing(vec3 n, vec3 d)
+// N . d as a side is lit by it.
+float hovr_side(float x)
 {
-  return (hovr_twoSided != 0 && dot(n, d) < 0.0) ? -n : n;
+  return hovr_twoSided != 0 ? abs(x) : x;
+}
+
+// The end dot products as the segment's shading sees them, and (z = 1) whether two-sided
+// lighting splits the segment: its ends face opposite ways and are faded out each on its own.
+vec3 hovr_orient(float f, float b)
+{
+  if (hovr_twoSided != 0 && f < 0.0 && b < 0.0)
+  {
+    return vec3(-f, -b, 0.0);
+  }
+  if (hovr_twoSided != 0 && (f < 0.0) != (b < 0.0))
+  {
+    return vec3(abs(f), abs(b), 1.0);
+  }
+  return vec3(f, b, 0.0);
 }
 
 // The normalised average of two normals (zero if they cancel).
@@ -153,44 +177,46 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
 #else
   rgb = hovr_lighting.x * I0.rgb;
   float n = hovr_lighting.w;
+#if HOVR_INTERPOLATION == 2
+  float m = hovr_arc(nFront, nBack);
+#else
+  float m = 0.0;
+#endif
+  vec3 nc = hovr_average(nFront, nBack);
   for (int k = 0; k < hovr_numberOfLights; ++k)
   {
     vec3 l = hovr_lightIsHead[k] != 0 ? hovr_view : hovr_lightDirection[k];
     vec3 h = hovr_average(l, hovr_view);
-    vec3 nf = hovr_facing(nFront, l);
-    vec3 nb = hovr_facing(nBack, l);
     vec3 diffuse;
 #if HOVR_INTERPOLATION == 0
-    diffuse = max(dot(hovr_average(nf, nb), l), 0.0) * I0.rgb;
+    diffuse = max(hovr_side(dot(nc, l)), 0.0) * I0.rgb;
 #else
-    float f = dot(nf, l), b = dot(nb, l);
-#if HOVR_INTERPOLATION == 2
-    float m = hovr_arc(nf, nb);
-#else
-    float m = 0.0;
-#endif
+    vec3 e = hovr_orient(dot(nFront, l), dot(nBack, l));
+    float f = e.x, b = e.y;
     // The paper's three cases (lines 162-173): a negative end fades the other one out.
-    diffuse = (f >= 0.0 && b >= 0.0) ? f * J0.rgb + b * J1.rgb + m * (f * J2.rgb + b * J3.rgb)
-      : f > 0.0                      ? f * J0.rgb
-      : b > 0.0                      ? b * J1.rgb
-                                     : vec3(0.0);
+    diffuse = (HOVR_INTERPOLATION == 1 || e.z != 0.0) ? max(f, 0.0) * J0.rgb + max(b, 0.0) * J1.rgb
+      : (f >= 0.0 && b >= 0.0) ? f * J0.rgb + b * J1.rgb + m * (f * J2.rgb + b * J3.rgb)
+      : f > 0.0                ? f * J0.rgb
+      : b > 0.0                ? b * J1.rgb
+                               : vec3(0.0);
 #endif
     float specular = 0.0;
     if (hovr_lighting.z != 0.0)
     {
-      nf = hovr_facing(nFront, h);
-      nb = hovr_facing(nBack, h);
-      float fh = dot(nf, h), bh = dot(nb, h);
 #if HOVR_INTERPOLATION == 0
-      specular = max(hovr_cone(dot(hovr_average(nf, nb), h)), 0.0) * I0.a;
-#elif HOVR_INTERPOLATION == 1
-      specular = max(hovr_cone(fh), 0.0) * J0.a + max(hovr_cone(bh), 0.0) * J1.a;
+      specular = max(hovr_cone(hovr_side(dot(nc, h))), 0.0) * I0.a;
 #else
+      vec3 eh = hovr_orient(dot(nFront, h), dot(nBack, h));
+      float fh = eh.x, bh = eh.y;
       float threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
-      float ms = hovr_arc(nf, nb);
-      if (fh > threshold && bh > threshold)
+      if (HOVR_INTERPOLATION == 1 || eh.z != 0.0)
       {
-        specular = hovr_cone(fh) * J0.a + hovr_cone(bh) * J1.a + n * ms * (fh * J2.a + bh * J3.a);
+        specular = max(hovr_cone(fh), 0.0) * J0.a + max(hovr_cone(bh), 0.0) * J1.a;
+      }
+#if HOVR_INTERPOLATION == 2
+      else if (fh > threshold && bh > threshold)
+      {
+        specular = hovr_cone(fh) * J0.a + hovr_cone(bh) * J1.a + n * m * (fh * J2.a + bh * J3.a);
       }
       else if (fh > threshold)
       {
@@ -203,11 +229,12 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
       else
       {
         float peak;
-        if (hovr_interiorMaximum(fh, bh, ms, peak) && hovr_cone(peak) > 0.0)
+        if (hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
         {
           specular = hovr_cone(peak) * hovr_layer(4, coord).r;
         }
       }
+#endif
 #endif
     }
     rgb += hovr_lighting.y * hovr_lightDiffuse[k] * diffuse +

@@ -24,7 +24,10 @@ Instead of methods x steps, ``"runs": [["preint1", 2], ["preint2", 2], ["stock",
 the run that the ms and RMSE ratio columns compare with (default: stock at the same step).
 ``"blend": "iso" | "mip" | "minip"`` in a dataset renders that blend mode (methods
 ``iso-analytic``, ``iso-stock``, ...), with ``"isovalues": [v, ...]`` for ``iso`` and
-``"shade": true`` to light the surface; its rows
+``"shade": true`` to light the surface (composite datasets too: shaded pre-integration, with
+``"ambient"``, ``"diffuse"``, ``"specular_coefficient"``, ``"specular_power"``,
+``"gradient_interpolation"``, ``"gooch"`` and, with ``"cone_reference": true``, an ``rmse_cone``
+column against the reference with the cone specular term that pre-integration uses); its rows
 add the measures of the analytic paper against the float64 reference: for ``iso`` the pixels
 both hit, the hit/miss disagreements (surfaces the method misses, hits the reference lacks)
 and the depth error in voxels (largest, 99th percentile, mean) where both hit; for the
@@ -60,7 +63,7 @@ from . import methods as hm
 from .io import HovrError
 
 CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_ms", "max_ms",
-              "samples_per_frame", "rmse", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
+              "samples_per_frame", "rmse", "rmse_cone", "max_error", "rmse_r", "rmse_g", "rmse_b", "rmse_a",
               "ms_ratio_to_stock", "rmse_ratio_to_stock", "baseline", "ms_ratio_to_baseline",
               "rmse_ratio_to_baseline", "ms_ratio_paired", "ms_ratio_paired_min",
               "ms_ratio_paired_max", "table_size", "table_sizing_ms", "table_build_ms", "table_gpu_bytes", "block_gpu_bytes",
@@ -74,7 +77,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "cpu_bytes", "instruction_set"]
 
 # Part of the reference cache key: bump when the reference's output changes.
-REFERENCE_VERSION = 2
+REFERENCE_VERSION = 3
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -97,12 +100,14 @@ def _expand(value, base):
 
 # Generated test volumes by --input prefix: the source class and its default size.
 GENERATED_VOLUMES = {"marschner-lobb": ("vtkMarschnerLobbSource", 41),
-                     "thin-features": ("vtkThinFeatureSource", 64)}
+                     "thin-features": ("vtkThinFeatureSource", 64),
+                     "curved-shells": ("vtkCurvedShellSource", 129)}
 
 
 def load_volume(spec, base=None):
-    """A volume from a dataset entry or an --input string: a path, ``marschner-lobb[:N]`` or
-    ``thin-features[:N]`` (vtkThinFeatureSource)."""
+    """A volume from a dataset entry or an --input string: a path, ``marschner-lobb[:N]``,
+    ``thin-features[:N]`` (vtkThinFeatureSource) or ``curved-shells[:N]``
+    (vtkCurvedShellSource)."""
     source = spec["input"]
     for prefix, (class_name, default_size) in GENERATED_VOLUMES.items():
         if source == prefix or source.startswith(prefix + ":"):
@@ -125,6 +130,28 @@ def load_volume(spec, base=None):
     path = _expand(source, base) if base else source
     return hio.read_volume(path, spec.get("dims"), spec.get("type"), spec.get("spacing"),
                            spec.get("header_bytes"))
+
+
+EXAGGERATED_NORMALS = "ExaggeratedNormals"
+
+
+def exaggerate_normals(image, epsilon, neighborhood=5):
+    """A shallow copy of ``image`` with the normals of vtkGradientExaggeration (epsilon, a
+    neighborhood**3 box) as the point array EXAGGERATED_NORMALS."""
+    from . import hovrFiltersImaging as imaging
+    from .renderer import _Errors
+    exaggeration = imaging.vtkGradientExaggeration()
+    exaggeration.SetInputData(image)
+    exaggeration.SetEpsilon(float(epsilon))
+    exaggeration.SetNeighborhoodSize(int(neighborhood))
+    exaggeration.SetOutputArrayName(EXAGGERATED_NORMALS)
+    errors = _Errors(exaggeration)
+    exaggeration.Update()
+    errors.close()
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    result = vtkImageData()
+    result.ShallowCopy(exaggeration.GetOutput())
+    return result
 
 
 def load_config(path):
@@ -179,8 +206,24 @@ def _scene_for(spec, base, size):
         raise HovrError("dataset %s: an iso dataset needs \"isovalues\"" % spec.get("name", ""))
     for k, value in enumerate(isovalues):
         prop.GetIsoSurfaceValues().SetValue(k, value)
+    shading = {"interpolation": spec.get("gradient_interpolation", "nonlinear"),
+               "gooch": bool(spec.get("gooch")), "specular": spec.get("specular", "lobe"),
+               "normals": None}
+    if spec.get("exaggerate") is not None:
+        image = exaggerate_normals(image, float(spec["exaggerate"]))
+        shading["normals"] = EXAGGERATED_NORMALS
     prop_desc += [blend, isovalues, bool(spec.get("shade"))]
-    return hm.Scene(image, prop, camera, size, blend), warnings, prop_desc
+    if spec.get("shade"):
+        for key in ("ambient", "diffuse", "specular_coefficient", "specular_power"):
+            if key in spec:
+                {"ambient": prop.SetAmbient, "diffuse": prop.SetDiffuse,
+                 "specular_coefficient": prop.SetSpecular,
+                 "specular_power": prop.SetSpecularPower}[key](float(spec[key]))
+        prop_desc += [shading, prop.GetAmbient(), prop.GetDiffuse(), prop.GetSpecular(),
+                      prop.GetSpecularPower()]
+    scene = hm.Scene(image, prop, camera, size, blend)
+    scene.shading = shading
+    return scene, warnings, prop_desc
 
 
 def run(config_path, output, log=print, renderer=None):
@@ -212,6 +255,13 @@ def run(config_path, output, log=print, renderer=None):
                                    _reference_key(spec, scene.image, prop_desc, scene.camera,
                                                   size), log)
             hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
+            # Shaded datasets: also the ground truth with the cone that pre-integration uses,
+            # which splits a method's error into the cone's and the rest.
+            cone = None
+            if spec.get("shade") and spec.get("cone_reference"):
+                cone = _reference(renderer, scene, name, output,
+                                  _reference_key(spec, scene.image, prop_desc + ["cone"],
+                                                 scene.camera, size), log, "reference-cone")
             dataset_rows = []
             pairs = [(hm.get_method(n, threads), step) for n, step, threads
                      in _runs_of(spec, config)]
@@ -229,6 +279,8 @@ def run(config_path, output, log=print, renderer=None):
                 row["_times"] = result.times_ms
                 row["_interleaved"] = method.kind == "gpu"
                 row.update(errors)
+                if cone is not None:
+                    row["rmse_cone"] = hm.compare(result.image, cone)[0]["rmse"]
                 if scene.blend != "composite":
                     row.update(hm.compare_blend(result.image, reference, scene))
                 row["dataset"] = name
@@ -261,12 +313,12 @@ def run(config_path, output, log=print, renderer=None):
     return rows, summary
 
 
-def _reference(renderer, scene, name, output, key, log):
-    path = os.path.join(output, "cache", "reference_%s_%s.vti" % (name, key))
+def _reference(renderer, scene, name, output, key, log, method="reference"):
+    path = os.path.join(output, "cache", "%s_%s_%s.vti" % (method, name, key))
     if os.path.isfile(path):
         return hio.read_vti(path)
-    log("%-10s computing the reference %dx%d ..." % (name, scene.size[0], scene.size[1]))
-    result = renderer.render("reference", scene, 1.0, 0)
+    log("%-10s computing the %s %dx%d ..." % (name, method, scene.size[0], scene.size[1]))
+    result = renderer.render(method, scene, 1.0, 0)
     hio.write_vti(result.image, path)
     return result.image
 

@@ -24,6 +24,16 @@ def _positive(text):
     return value
 
 
+def _non_negative(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("%r is not a number" % text) from None
+    if not (value >= 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError("must be a non-negative number, got %s" % text)
+    return value
+
+
 def _size(text):
     try:
         value = int(text)
@@ -61,6 +71,7 @@ def build_parser():
     from .appearance import VIEWS
     from .io import RAW_TYPES
     from .methods import METHODS
+    from .registry import INTERPOLATIONS, SPECULAR_MODELS
     parser = argparse.ArgumentParser(prog="hovr", description=(
         "Higher-order volume rendering for VTK: render with a method, measure its error "
         "against the reference integrator and its cost."))
@@ -73,8 +84,9 @@ def build_parser():
         "z."))
     render.add_argument("--input", required=True, help=(
         "volume: .vti, .mhd, .nii, .nii.gz, .slc, legacy .vtk structured points, raw (with "
-        "--dims and --type), marschner-lobb[:N] or thin-features[:N] (sheets and tubes "
-        "thinner than a voxel) for the generated test volumes"))
+        "--dims and --type), marschner-lobb[:N], thin-features[:N] (sheets and tubes "
+        "thinner than a voxel) or curved-shells[:N] (thin curved shells, for shading) for the "
+        "generated test volumes"))
     render.add_argument("--dims", nargs=3, type=_size, metavar=("X", "Y", "Z"),
                         help="raw input: points along x, y, z (x fastest)")
     render.add_argument("--type", choices=sorted(RAW_TYPES), help="raw input: scalar type "
@@ -95,8 +107,25 @@ def build_parser():
                         "file with opacity Points (rescaled); replaces the opacity of --tf "
                         "(default without --tf: ramp-down for minip, ramp otherwise)")
     render.add_argument("--shade", action="store_true", help="light the volume with a "
-                        "headlight (isosurfaces with the exact gradient; composite with the "
-                        "methods that shade; the reference shades isosurfaces only)")
+                        "headlight (isosurfaces with the exact gradient; composite volumes "
+                        "with the normalised gradient, preint1 pre-integrating the lighting)")
+    render.add_argument("--gradient-interpolation", choices=sorted(INTERPOLATIONS),
+                        default="nonlinear", help="--shade with preint1: how the normal is "
+                        "interpolated between two samples: constant (their average), linear "
+                        "(endpoint shading faded, Lum et al.) or nonlinear (along the arc, "
+                        "Guetat et al.; default)")
+    render.add_argument("--gooch", action="store_true", help="--shade: Gooch shading (cool "
+                        "to warm tones) instead of Blinn-Phong (preint1 and the reference)")
+    render.add_argument("--normals", metavar="ARRAY", help="--shade with preint1 and the "
+                        "reference: the normals are this point array of 3-component vectors "
+                        "(e.g. a .vti written by vtkGradientExaggeration) instead of the "
+                        "gradient")
+    render.add_argument("--exaggerate", type=_non_negative, metavar="EPS", help="--shade with "
+                        "preint1 and the reference: exaggerate the normals first "
+                        "(vtkGradientExaggeration, N + EPS (N - mean of the 5x5x5 box))")
+    render.add_argument("--specular", choices=sorted(SPECULAR_MODELS), default="lobe",
+                        help="--shade with the reference: VTK's specular lobe (default) or "
+                        "the cone that shaded pre-integration uses")
     render.add_argument("--opacity-unit-distance", type=_positive, default=1.0, metavar="U",
                         help="distance in world units over which the opacities hold "
                         "(default 1)")
@@ -204,7 +233,16 @@ def cmd_render(args):
     if args.isovalue and not inside:
         raise HovrError("no --isovalue lies inside the data range [%g, %g]: the image would "
                         "be empty" % (low, high))
+    normals = args.normals
+    if args.exaggerate is not None:
+        if normals:
+            raise HovrError("--exaggerate computes the normals: it does not combine with "
+                            "--normals")
+        image = hb.exaggerate_normals(image, args.exaggerate)
+        normals = hb.EXAGGERATED_NORMALS
     scene = hm.Scene(image, prop, camera, args.size, blend)
+    scene.shading = {"interpolation": args.gradient_interpolation, "gooch": args.gooch,
+                     "specular": args.specular, "normals": normals}
     if method.uses_step:
         scene.step_length(args.step)  # before any work: a step too small is an error
     renderer = hm.Renderer()
@@ -255,9 +293,6 @@ def volume_property(args, blend, low, high):
     prop = hio.make_volume_property(color, opacity, args.opacity_unit_distance)
     if args.shade:
         ha.shade(prop)
-        if blend == "composite" and args.method == "reference":
-            warn("the reference integrator shades isosurfaces only; this composite image is "
-                 "not lit")
     return prop
 
 

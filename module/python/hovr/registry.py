@@ -18,6 +18,10 @@ from .io import HovrError
 # Blend modes by name, with vtkVolumeMapper's values; the arrays hovr render adds for them.
 BLEND_MODES = {"composite": 0, "mip": 1, "minip": 2, "iso": 5}
 BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
+# Gradient interpolations of shaded pre-integration, with vtkVolumeShadingModel's values, and
+# the reference's specular terms.
+INTERPOLATIONS = {"constant": 0, "linear": 1, "nonlinear": 2}
+SPECULAR_MODELS = {"lobe": 0, "cone": 1}
 FLOAT_MAX = 3.4028234663852886e38
 
 
@@ -51,6 +55,10 @@ class Method:
         """The image algorithm, set up for ``scene``, that computes the method's image
         off-screen and counts its samples (GetNumberOfSamples)."""
         raise NotImplementedError
+
+    def configure(self, target, scene):
+        """Set up the mapper or algorithm made for ``scene`` with what the scene asks beyond
+        the volume and its property (scene.shading)."""
 
     def check_scene(self, scene):
         """Raise HovrError when the method cannot draw ``scene`` right. Every method but the
@@ -95,6 +103,9 @@ class ThreadedMethod(Method):
     def make_algorithm(self, scene):
         return self.method.make_algorithm(scene)
 
+    def configure(self, target, scene):
+        self.method.configure(target, scene)
+
     def statistics(self, mapper):
         return self.method.statistics(mapper)
 
@@ -116,14 +127,24 @@ class StockMethod(Method):
 
 
 class PreIntegrationMethod(Method):
-    def __init__(self, name, description, integration):
+    """vtkPreIntegrationVolumeMapper; ``interpolation`` fixes the gradient interpolation of
+    shaded frames (None: the scene's)."""
+
+    def __init__(self, name, description, integration, interpolation=None):
         super().__init__(name, description)
         self.integration = integration
+        self.interpolation = interpolation
 
     def make_mapper(self):
         mapper = gl.vtkPreIntegrationVolumeMapper()
         mapper.SetIntegration(self.integration)
         return mapper
+
+    def configure(self, target, scene):
+        target.SetGradientInterpolation(
+            INTERPOLATIONS[self.interpolation or scene.shading["interpolation"]])
+        target.SetGooch(bool(scene.shading["gooch"]))
+        target.SetNormalArrayName(scene.shading.get("normals") or None)
 
     def statistics(self, mapper):
         table = mapper.GetActiveTable()
@@ -192,11 +213,30 @@ class FixedPointMethod(Method):
 
 class ReferenceMethod(Method):
     """vtkVolumeReferenceIntegrator: the ground truth, computed off-screen in double for any
-    blend mode, with a step of its own."""
+    blend mode, with a step of its own. Shaded composite scenes are lit by the scene's lights
+    (by default a white headlight, as VTK) with the specular term ``specular`` ("lobe", VTK's, or "cone"; None: the scene's)."""
 
     kind = "cpu"
     uses_step = False
     blend = None
+
+    def __init__(self, name, description, specular=None):
+        super().__init__(name, description)
+        self.specular = specular
+
+    def configure(self, target, scene):
+        if not scene.prop.GetShade():
+            return
+        model = core.vtkVolumeShadingModel()
+        model.SetFromProperty(scene.prop)
+        lights = scene.shading.get("lights") or [((0.0, 0.0, 1.0), (1.0, 1.0, 1.0),
+                                                   (1.0, 1.0, 1.0), True)]
+        for direction, diffuse, specular, headlight in lights:
+            model.AddLight(direction, diffuse, specular, headlight)
+        model.SetSpecularModel(SPECULAR_MODELS[self.specular or scene.shading["specular"]])
+        model.SetGooch(bool(scene.shading["gooch"]))
+        target.SetShadingModel(model)
+        target.SetNormalArrayName(scene.shading.get("normals") or None)
 
     def render(self, renderer, scene, step, repeat):
         return renderer.render_offline(self, scene, step, repeat)
@@ -263,10 +303,21 @@ class ObjectOrderMethod(Method):
 METHODS = {m.name: m for m in (
     ReferenceMethod("reference", "CPU ground truth: exact cubic per cell, adaptive pieces "
                                  "(vtkVolumeReferenceIntegrator)"),
+    ReferenceMethod("reference-cone", "the ground truth of shaded volumes with the cone "
+                    "specular term that shaded pre-integration uses", "cone"),
     StockMethod("stock", "VTK's vtkOpenGLGPUVolumeRayCastMapper, composite, unchanged"),
     PreIntegrationMethod("preint1", "first-order pre-integration, 2D table "
                                     "(vtkPreIntegrationVolumeMapper)",
                          gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER),
+    PreIntegrationMethod("preint1-constant", "shaded first-order pre-integration, one normal "
+                         "per segment: the average of its ends'", gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER,
+                         "constant"),
+    PreIntegrationMethod("preint1-linear", "shaded first-order pre-integration, endpoint "
+                         "shading faded linearly (Lum et al.)",
+                         gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER, "linear"),
+    PreIntegrationMethod("preint1-nonlinear", "shaded first-order pre-integration, normals "
+                         "along the arc (Guetat et al.)",
+                         gl.vtkPreIntegrationVolumeMapper.FIRST_ORDER, "nonlinear"),
     PreIntegrationMethod("preint2", "second-order pre-integration, 3D table over (front, "
                                     "middle, back) (vtkPreIntegrationVolumeMapper)",
                          gl.vtkPreIntegrationVolumeMapper.SECOND_ORDER),

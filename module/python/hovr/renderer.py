@@ -15,7 +15,7 @@ import time
 
 from vtkmodules.vtkCommonCore import vtkCommand, vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+from vtkmodules.vtkRenderingCore import vtkLight, vtkRenderer, vtkRenderWindow, vtkVolume
 # The OpenGL factories must be loaded for the window and mapper overrides.
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
@@ -55,6 +55,14 @@ class Scene:
         if blend == "iso" and prop.GetIsoSurfaceValues().GetNumberOfContours() < 1:
             raise HovrError("isosurface rendering needs at least one --isovalue")
         self.blend = blend
+        # How shaded composite frames are lit and interpolated (property Shade on): the
+        # gradient interpolation of pre-integration ("constant", "linear" or "nonlinear"),
+        # Gooch shading, and the reference's specular term ("lobe", VTK's, or "cone").
+        # "normals" names a point array to take as the normals instead of the gradient;
+        # "lights" lists directional lights (towards-light direction in world coordinates,
+        # diffuse colour, specular colour, headlight flag) instead of VTK's white headlight.
+        self.shading = {"interpolation": "nonlinear", "gooch": False, "specular": "lobe",
+                        "normals": None, "lights": None}
         # One camera model for every method: a camera the reference's rays cannot follow
         # (view up along the view, a zero parallel scale, non-finite values) is refused for all.
         rays = core.vtkCameraRayModel()
@@ -185,6 +193,7 @@ class Renderer:
         method.check_scene(scene)
         method.set_threads(None, method.threads)
         algorithm = method.make_algorithm(scene)
+        method.configure(algorithm, scene)
         times = []
         for _ in range(max(repeat, 0) + 1):
             algorithm.Modified()
@@ -214,11 +223,24 @@ class Renderer:
         renderer = self._renderer
         renderer.RemoveAllViewProps()
         renderer.GetActiveCamera().DeepCopy(scene.camera)
+        renderer.RemoveAllLights()  # none: VTK makes its headlight
+        for direction, diffuse, specular, headlight in scene.shading.get("lights") or []:
+            light = vtkLight()
+            if headlight:
+                light.SetLightTypeToHeadlight()
+            else:
+                light.SetLightTypeToSceneLight()
+                light.SetPosition(direction)
+                light.SetFocalPoint(0.0, 0.0, 0.0)
+            light.SetDiffuseColor(diffuse)
+            light.SetSpecularColor(specular)
+            renderer.AddLight(light)
         volumes, mappers = [], []
         for method, step in runs:
             mapper = method.make_mapper()
             if mapper is None:
                 raise HovrError("%s is not a GPU method" % method.name)
+            method.configure(mapper, scene)
             mapper.SetInputData(scene.image)
             mapper.SetSampleDistance(scene.step_length(step))
             volume = vtkVolume()
