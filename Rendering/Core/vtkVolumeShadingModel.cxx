@@ -172,10 +172,14 @@ bool vtkVolumeShadingModel::TransformLights(vtkMatrix4x4* volumeMatrix)
   {
     return true;
   }
+  // The determinant first: vtkMatrix4x4::Invert leaves its output unset for a singular matrix.
+  if (volumeMatrix->Determinant() == 0.0)
+  {
+    return false;
+  }
   double inverse[16];
   vtkMatrix4x4::Invert(volumeMatrix->GetData(), inverse);
-  if (!std::all_of(inverse, inverse + 16, [](double v) { return std::isfinite(v); }) ||
-    volumeMatrix->Determinant() == 0.0)
+  if (!std::all_of(inverse, inverse + 16, [](double v) { return std::isfinite(v); }))
   {
     return false;
   }
@@ -392,7 +396,7 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
     double diffuse[3] = { 0, 0, 0 };
     if (mode == CONSTANT)
     {
-      const double d = Side(Dot(nc, l), twoSided);
+      const double d = std::max(Side(Dot(nc, l), twoSided), 0.0); // one-sided: none facing away
       for (int c = 0; c < 3; ++c)
       {
         diffuse[c] = d * I0[c];

@@ -459,10 +459,11 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
 {
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
-  // Second order and shaded first order (moment layers) are 3D textures.
-  const int maxSize = secondOrder || table->GetMoments() > 0
-    ? vtkTextureObject::GetMaximumTextureSize3D(context)
-    : vtkTextureObject::GetMaximumTextureSize(context);
+  // Second order is a 3D texture; the moment layers of shaded first order lie one above the
+  // other in a 2D one, which must hold their chord axes together.
+  const int layers = secondOrder ? 1 : std::max(table->GetMoments(), 1);
+  const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
+                                  : vtkTextureObject::GetMaximumTextureSize(context) / layers;
   const int limit = std::min(maxSize > 0 ? maxSize : 2048, MaximumAxisSize);
   const bool measurePrefilter =
     this->TablePrefilter == PREFILTER_AUTOMATIC && !secondOrder && this->TableSize == 0;
@@ -503,7 +504,6 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   }
   const int precision = this->GetEffectiveTablePrecision();
   // Bytes per entry, all moment layers of a shaded table included.
-  const int layers = secondOrder ? 1 : std::max(table->GetMoments(), 1);
   const int bytes[4] = { 16 * layers, 4 * layers, 8 * layers, 16 * layers };
   // Measured again only when something it depends on changed.
   const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
@@ -705,11 +705,12 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   const int n = table->GetTableSize();
   const int nb = table->GetChordSize();
   const int nd = table->GetDeviationSize();
-  // First order reads a 2D texture over (centre, chord), shaded first order a 3D one over
-  // (centre, chord, moment layer), second order a 3D one.
+  // First order reads a 2D texture over (centre, chord), shaded first order one whose rows
+  // hold the moment layers one above the other, second order a 3D one.
   const int layers = table->GetNumberOfLayers();
-  const bool volume = this->Integration == SECOND_ORDER || layers > 1;
-  const int depth = this->Integration == SECOND_ORDER ? nd : layers;
+  const bool volume = this->Integration == SECOND_ORDER;
+  const int depth = nd;
+  const int rows = nb * layers;
   static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
   static const int bytes[4] = { 4, 1, 2, 4 };
   const double start = vtkTimerLog::GetUniversalTime();
@@ -732,10 +733,10 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     this->TableTexture->SetDataType(GL_FLOAT);
     void* data = table->GetTable()->GetVoidPointer(0);
     const bool created = volume ? this->TableTexture->Create3DFromRaw(n, nb, depth, 4, VTK_FLOAT, data)
-                                : this->TableTexture->Create2DFromRaw(n, nb, 4, VTK_FLOAT, data);
+                                : this->TableTexture->Create2DFromRaw(n, rows, 4, VTK_FLOAT, data);
     if (!created)
     {
-      vtkErrorMacro("Could not create the " << n << " x " << nb << (volume ? " x " : "")
+      vtkErrorMacro("Could not create the " << n << " x " << (volume ? nb : rows) << (volume ? " x " : "")
                                             << (volume ? std::to_string(depth) : std::string())
                                             << " table texture.");
       return false;
@@ -878,6 +879,8 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
   {
     program->SetUniformi("hovr_normals", this->NormalTexture->GetTextureUnit());
   }
+  program->SetUniformf(
+    "hovr_chordTexels", static_cast<float>(this->GetActiveTable()->GetChordSize()));
   program->SetUniformi("hovr_numberOfLights", count);
   program->SetUniform3fv("hovr_lightDirection", MaximumLights, direction);
   program->SetUniform3fv("hovr_lightDiffuse", MaximumLights, diffuse);

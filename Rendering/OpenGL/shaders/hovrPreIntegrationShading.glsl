@@ -1,8 +1,10 @@
 // hovr: shaded first-order pre-integration with non-linear gradient interpolation (Guetat,
 // Ancel, Marchesin and Dischler 2010). A segment's shaded colour is a sum of 2D moment tables
 // (J_0..J_3 of the colour-weighted and of the plain extinction, layers of the 3D texture
-// hovr_preintTable over (chord centre, chord, layer)) weighted by dot products of the normals
-// at its two ends with each light's direction and half vector. The GLSL mirror of
+// hovr_preintTable over (chord centre, chord)) weighted by dot products of the normals
+// at its two ends with each light's direction and half vector. The layers lie one above the
+// other in the 2D texture hovr_preintTable (centre along x; layer, then chord along y), so a
+// fetch filters bilinearly within its layer. The GLSL mirror of
 // vtkVolumeShadingModel::ShadeSegment(), operation for operation.
 //
 // Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2, 4 or 5 moment layers),
@@ -11,7 +13,8 @@
 // normalised central-difference gradient, computeGradient), both in the volume's object
 // coordinates, where the lights are given.
 
-uniform sampler3D hovr_preintTable;
+uniform sampler2D hovr_preintTable;
+uniform float hovr_chordTexels; // chord entries per layer
 uniform int hovr_numberOfLights;
 uniform vec3 hovr_lightDirection[8]; // towards the light
 uniform vec3 hovr_lightDiffuse[8];
@@ -41,9 +44,12 @@ vec3 hovr_normalAt(vec3 pos)
   return len > 0.0 ? g / len : vec3(0.0);
 }
 
+// The chord coordinate is clamped to the layer's outer texel centres, where a single-layer
+// texture's clamp-to-edge would hold it, so that no fetch blends two layers.
 vec4 hovr_layer(int l, vec2 coord)
 {
-  return texture(hovr_preintTable, vec3(coord, (float(l) + 0.5) / float(HOVR_LAYERS)));
+  float y = clamp(coord.y, 0.5 / hovr_chordTexels, 1.0 - 0.5 / hovr_chordTexels);
+  return texture(hovr_preintTable, vec2(coord.x, (float(l) + y) / float(HOVR_LAYERS)));
 }
 
 // N . d as a side is lit by it.
