@@ -240,7 +240,7 @@ void vtkVolumeShadingModel::ShadePoint(
       nh = std::abs(nh);
     }
     const double specular = this->SpecularModel == CONE
-      ? std::max(Cone(nh, n), 0.0)
+      ? std::max(Cone(nh, this->GetConeSlope()), 0.0)
       : (nh > 0.0 ? std::pow(nh, n) : 0.0);
     for (int c = 0; c < 3; ++c)
     {
@@ -319,7 +319,7 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
   const double* J2 = moments[2];
   const double* J3 = moments[3];
   const double tent = moments[4][0];
-  const double n = this->SpecularPower;
+  const double n = this->GetConeSlope(); // the cone: 1 + n (x - 1)
   const int mode = this->GradientInterpolation;
   // The segment's unshaded colour and its opacity: I_0 = J_0 + J_1, I'_0 = J'_0 + J'_1.
   double I0[4];
@@ -449,8 +449,11 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
       else
       {
         // A highlight between the samples (lines 211-215): its peak value times the tent.
+        // The profile is at most max(fh, bh) (1 + m / 4), the largest weight of the arc:
+        // below the threshold no peak can reach the cone, and the search is skipped.
         double peak;
-        if (InteriorMaximum(fh, bh, m, peak) && Cone(peak, n) > 0.0)
+        if (std::max(fh, bh) * (1.0 + 0.25 * m) > threshold && InteriorMaximum(fh, bh, m, peak) &&
+          Cone(peak, n) > 0.0)
         {
           specular = Cone(peak, n) * tent;
         }
@@ -465,6 +468,15 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
 }
 
 //------------------------------------------------------------------------------
+double vtkVolumeShadingModel::GetConeSlope() const
+{
+  // The lobe x^n integrates to 2 pi / (n + 1) over the directions, a cone of slope k to
+  // pi / k: slope (n + 1) / 2 keeps the lobe's energy.
+  return this->SpecularCone == MATCHED_CONE ? 0.5 * (this->SpecularPower + 1.0)
+                                            : this->SpecularPower;
+}
+
+//------------------------------------------------------------------------------
 void vtkVolumeShadingModel::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -473,6 +485,8 @@ void vtkVolumeShadingModel::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Specular: " << this->Specular << "\n";
   os << indent << "SpecularPower: " << this->SpecularPower << "\n";
   os << indent << "SpecularModel: " << (this->SpecularModel == CONE ? "Cone" : "Lobe") << "\n";
+  os << indent << "SpecularCone: " << (this->SpecularCone == MATCHED_CONE ? "Matched" : "Paper")
+     << "\n";
   os << indent << "TwoSidedLighting: " << (this->TwoSidedLighting ? "On" : "Off") << "\n";
   os << indent << "Gooch: " << (this->Gooch ? "On" : "Off") << "\n";
   os << indent << "GradientInterpolation: " << this->GradientInterpolation << "\n";

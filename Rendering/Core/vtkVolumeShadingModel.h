@@ -14,7 +14,8 @@
  *   q = c (Ka + Kd sum_k d_k diff(N . L_k)) + Ks sum_k s_k spec(N . H_k),  H_k = |L_k + V|
  * over the directional lights k (towards-light direction L_k, diffuse colour d_k, specular
  * colour s_k, colours times intensity), diff(x) = max(x, 0) and spec(x) = max(x, 0)^n (LOBE,
- * VTK's model) or max(1 + n (x - 1), 0) (CONE, the paper's approximation of the lobe, line 182).
+ * VTK's model) or max(1 + k (x - 1), 0) (CONE, the paper's approximation of the lobe, line 182,
+ * with k = n; see SpecularCone).
  * With TwoSidedLighting, N . L and N . H are taken as absolute values, as VTK does. A headlight
  * shines from the eye: L = V on every ray. Ambient light is Ka c, VTK's treatment of the
  * headlight, whatever the lights. N is the normalised gradient, pointing towards increasing
@@ -95,6 +96,30 @@ public:
   vtkSetClampMacro(SpecularModel, int, LOBE, CONE);
   vtkGetMacro(SpecularModel, int);
   ///@}
+
+  enum SpecularCones
+  {
+    PAPER_CONE = 0,  ///< slope n: the lobe's tangent at its peak (the paper's)
+    MATCHED_CONE = 1 ///< slope (n + 1) / 2: the lobe's integral over all directions
+  };
+
+  ///@{
+  /**
+   * The cone 1 + k (N . H - 1) that stands for the lobe (N . H)^n, in ShadeSegment() and in
+   * ShadePoint() with SpecularModel CONE: PAPER_CONE takes the paper's slope k = n, the
+   * lobe's tangent at N . H = 1, whose light over all directions (pi / n) is half the lobe's
+   * (2 pi / (n + 1)); MATCHED_CONE takes k = (n + 1) / 2, the cone as wide as that light
+   * needs, with the lobe's peak. Any slope keeps the segment integral a polynomial in the
+   * position. Initial value is PAPER_CONE.
+   */
+  vtkSetClampMacro(SpecularCone, int, PAPER_CONE, MATCHED_CONE);
+  vtkGetMacro(SpecularCone, int);
+  ///@}
+
+  /**
+   * The slope k of the cone (see SpecularCone).
+   */
+  double GetConeSlope() const;
 
   ///@{
   /**
@@ -231,6 +256,7 @@ protected:
   double Specular = 0.2;
   double SpecularPower = 10.0;
   int SpecularModel = LOBE;
+  int SpecularCone = PAPER_CONE;
   bool TwoSidedLighting = true;
   bool Gooch = false;
   double GoochCool[3] = { 0.0, 0.0, 0.4 };

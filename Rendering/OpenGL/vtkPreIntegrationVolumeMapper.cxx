@@ -888,7 +888,7 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
   program->SetUniform1iv("hovr_lightIsHead", MaximumLights, head);
   const float lighting[4] = { static_cast<float>(model->GetAmbient()),
     static_cast<float>(model->GetDiffuse()), static_cast<float>(model->GetSpecular()),
-    static_cast<float>(model->GetSpecularPower()) };
+    static_cast<float>(model->GetConeSlope()) };
   program->SetUniform4f("hovr_lighting", lighting);
   program->SetUniformf(
     "hovr_minimumCosHalfAngle", static_cast<float>(model->GetMinimumCosHalfAngle()));

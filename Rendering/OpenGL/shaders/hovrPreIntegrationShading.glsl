@@ -20,7 +20,7 @@ uniform vec3 hovr_lightDirection[8]; // towards the light
 uniform vec3 hovr_lightDiffuse[8];
 uniform vec3 hovr_lightSpecular[8];
 uniform int hovr_lightIsHead[8]; // 1: shines along the view direction
-uniform vec4 hovr_lighting;      // Ka, Kd, Ks, n
+uniform vec4 hovr_lighting;      // Ka, Kd, Ks, the cone's slope n
 uniform float hovr_minimumCosHalfAngle;
 uniform int hovr_twoSided;
 uniform vec3 hovr_goochCool;
@@ -234,8 +234,10 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
       }
       else
       {
+        // The profile stays below max(fh, bh) (1 + m / 4): no peak can reach the cone then.
         float peak;
-        if (hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
+        if (max(fh, bh) * (1.0 + 0.25 * m) > threshold && hovr_interiorMaximum(fh, bh, m, peak) &&
+          hovr_cone(peak) > 0.0)
         {
           specular = hovr_cone(peak) * hovr_layer(4, coord).r;
         }

@@ -26,7 +26,8 @@ the run that the ms and RMSE ratio columns compare with (default: stock at the s
 ``iso-analytic``, ``iso-stock``, ...), with ``"isovalues": [v, ...]`` for ``iso`` and
 ``"shade": true`` to light the surface (composite datasets too: shaded pre-integration, with
 ``"ambient"``, ``"diffuse"``, ``"specular_coefficient"``, ``"specular_power"``,
-``"gradient_interpolation"``, ``"gooch"`` and, with ``"cone_reference": true``, an ``rmse_cone``
+``"gradient_interpolation"``, ``"gooch"``, ``"cone"`` ("paper" or "matched"), ``"exaggerate"``
+(epsilon of vtkGradientExaggeration's normals) and, with ``"cone_reference": true``, an ``rmse_cone``
 column against the reference with the cone specular term that pre-integration uses); its rows
 add the measures of the analytic paper against the float64 reference: for ``iso`` the pixels
 both hit, the hit/miss disagreements (surfaces the method misses, hits the reference lacks)
@@ -208,7 +209,7 @@ def _scene_for(spec, base, size):
         prop.GetIsoSurfaceValues().SetValue(k, value)
     shading = {"interpolation": spec.get("gradient_interpolation", "nonlinear"),
                "gooch": bool(spec.get("gooch")), "specular": spec.get("specular", "lobe"),
-               "normals": None}
+               "normals": None, "cone": spec.get("cone", "paper")}
     if spec.get("exaggerate") is not None:
         image = exaggerate_normals(image, float(spec["exaggerate"]))
         shading["normals"] = EXAGGERATED_NORMALS

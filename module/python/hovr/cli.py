@@ -71,7 +71,7 @@ def build_parser():
     from .appearance import VIEWS
     from .io import RAW_TYPES
     from .methods import METHODS
-    from .registry import INTERPOLATIONS, SPECULAR_MODELS
+    from .registry import CONES, INTERPOLATIONS, SPECULAR_MODELS
     parser = argparse.ArgumentParser(prog="hovr", description=(
         "Higher-order volume rendering for VTK: render with a method, measure its error "
         "against the reference integrator and its cost."))
@@ -123,6 +123,10 @@ def build_parser():
     render.add_argument("--exaggerate", type=_non_negative, metavar="EPS", help="--shade with "
                         "preint1 and the reference: exaggerate the normals first "
                         "(vtkGradientExaggeration, N + EPS (N - mean of the 5x5x5 box))")
+    render.add_argument("--cone", choices=sorted(CONES), default="paper", help="--shade with "
+                        "preint1 (and the reference with --specular cone): the cone that "
+                        "stands for the specular lobe n: the paper's, of slope n (default), or "
+                        "matched, of slope (n + 1) / 2, which gives the lobe's light")
     render.add_argument("--specular", choices=sorted(SPECULAR_MODELS), default="lobe",
                         help="--shade with the reference: VTK's specular lobe (default) or "
                         "the cone that shaded pre-integration uses")
@@ -242,7 +246,7 @@ def cmd_render(args):
         normals = hb.EXAGGERATED_NORMALS
     scene = hm.Scene(image, prop, camera, args.size, blend)
     scene.shading = {"interpolation": args.gradient_interpolation, "gooch": args.gooch,
-                     "specular": args.specular, "normals": normals}
+                     "specular": args.specular, "normals": normals, "cone": args.cone}
     if method.uses_step:
         scene.step_length(args.step)  # before any work: a step too small is an error
     renderer = hm.Renderer()

@@ -22,6 +22,8 @@ BLEND_ARRAYS = {"iso": "Depth", "mip": "MaxScalar", "minip": "MinScalar"}
 # the reference's specular terms.
 INTERPOLATIONS = {"constant": 0, "linear": 1, "nonlinear": 2}
 SPECULAR_MODELS = {"lobe": 0, "cone": 1}
+# The cone's slope: the paper's (n) or the one that keeps the lobe's light ((n + 1) / 2).
+CONES = {"paper": 0, "matched": 1}
 FLOAT_MAX = 3.4028234663852886e38
 
 
@@ -145,6 +147,7 @@ class PreIntegrationMethod(Method):
             INTERPOLATIONS[self.interpolation or scene.shading["interpolation"]])
         target.SetGooch(bool(scene.shading["gooch"]))
         target.SetNormalArrayName(scene.shading.get("normals") or None)
+        target.GetShadingModel().SetSpecularCone(CONES[scene.shading.get("cone") or "paper"])
 
     def statistics(self, mapper):
         table = mapper.GetActiveTable()
@@ -235,6 +238,7 @@ class ReferenceMethod(Method):
             model.AddLight(direction, diffuse, specular, headlight)
         model.SetSpecularModel(SPECULAR_MODELS[self.specular or scene.shading["specular"]])
         model.SetGooch(bool(scene.shading["gooch"]))
+        model.SetSpecularCone(CONES[scene.shading.get("cone") or "paper"])
         target.SetShadingModel(model)
         target.SetNormalArrayName(scene.shading.get("normals") or None)
 

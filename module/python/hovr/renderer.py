@@ -61,8 +61,9 @@ class Scene:
         # "normals" names a point array to take as the normals instead of the gradient;
         # "lights" lists directional lights (towards-light direction in world coordinates,
         # diffuse colour, specular colour, headlight flag) instead of VTK's white headlight.
+        # "cone" is the slope of the cone that stands for the lobe: "paper" or "matched".
         self.shading = {"interpolation": "nonlinear", "gooch": False, "specular": "lobe",
-                        "normals": None, "lights": None}
+                        "normals": None, "lights": None, "cone": "paper"}
         # One camera model for every method: a camera the reference's rays cannot follow
         # (view up along the view, a zero parallel scale, non-finite values) is refused for all.
         rays = core.vtkCameraRayModel()

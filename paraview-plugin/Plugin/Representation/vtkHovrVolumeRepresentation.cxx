@@ -13,6 +13,7 @@
 #include "vtkRectilinearGrid.h"
 
 #include <cmath>
+#include <cstring>
 
 vtkStandardNewMacro(vtkHovrVolumeRepresentation);
 
@@ -29,6 +30,9 @@ vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
   this->Iterations = mapper->GetIterations();
   this->TablePrefilter = mapper->GetTablePrefilter();
   this->VolumePrecision = mapper->GetVolumePrecision();
+  this->GradientInterpolation = mapper->GetGradientInterpolation();
+  this->Gooch = mapper->GetGooch();
+  this->SetNormalArrayName(mapper->GetNormalArrayName());
   this->VolumeMapper = mapper;
   this->PreIntegrationMapper = mapper;
   this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
@@ -45,7 +49,10 @@ vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
 }
 
 //------------------------------------------------------------------------------
-vtkHovrVolumeRepresentation::~vtkHovrVolumeRepresentation() = default;
+vtkHovrVolumeRepresentation::~vtkHovrVolumeRepresentation()
+{
+  this->SetNormalArrayName(nullptr);
+}
 
 //------------------------------------------------------------------------------
 double vtkHovrVolumeRepresentation::ComputeAutomaticSampleDistance()
@@ -128,6 +135,15 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     mapper->SetIterations(this->Iterations);
     mapper->SetTablePrefilter(this->TablePrefilter);
     mapper->SetVolumePrecision(this->VolumePrecision);
+    mapper->SetGradientInterpolation(this->GradientInterpolation);
+    mapper->SetGooch(this->Gooch);
+    // The GUI's array list offers "None" for no array; the mapper takes nullptr for that.
+    const char* normals = this->NormalArrayName;
+    if (normals && (!*normals || std::strcmp(normals, "None") == 0))
+    {
+      normals = nullptr;
+    }
+    mapper->SetNormalArrayName(normals);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -206,6 +222,10 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "TablePrefilter: " << this->TablePrefilter << "\n";
   os << indent << "VolumePrecision: " << this->VolumePrecision << "\n";
+  os << indent << "GradientInterpolation: " << this->GradientInterpolation << "\n";
+  os << indent << "Gooch: " << (this->Gooch ? "On" : "Off") << "\n";
+  os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")
+     << "\n";
   os << indent << "ObjectOrderClassification: " << this->ObjectOrderClassification << "\n";
   os << indent << "ObjectOrderShading: " << this->ObjectOrderShading << "\n";
   os << indent << "InterleavedSampling: " << (this->InterleavedSampling ? "On" : "Off") << "\n";

@@ -13,8 +13,10 @@
  * vtkSmartVolumeMapper/vtkMultiBlockVolumeMapper know (volume rendering mode, global
  * illumination, the Y-axis array of a 2D transfer function) are skipped by the superclass for
  * another mapper type and have no effect. Partitioned datasets are not drawn (the superclass
- * warns); the mapper itself draws rectilinear grids, multi-component data, shading, blend
- * modes other than composite and 2D transfer functions with VTK's stock path.
+ * warns); the mapper itself draws rectilinear grids, multi-component data, shaded second
+ * order, shading under positional lights, blend modes other than composite and 2D transfer
+ * functions with VTK's stock path. With Shade on, first order is lit as it is pre-integrated
+ * (Guetat et al. 2010), as GradientInterpolation, Gooch and NormalArrayName say.
  *
  * Integration values beyond the pre-integration modes choose hovr's vtkAnalyticVolumeMapper
  * instead (ANALYTIC_ISOSURFACE, ANALYTIC_MIP, ANALYTIC_MINIP): the exact first hit of the
@@ -142,6 +144,34 @@ public:
 
   ///@{
   /**
+   * Shaded first-order pre-integration (the volume property's Shade on, Integration
+   * FIRST_ORDER), passed on unchanged to vtkPreIntegrationVolumeMapper, which documents them:
+   * GradientInterpolation, how the normal varies along a segment (a value of
+   * vtkVolumeShadingModel::GradientInterpolations, which the mapper clamps; initial value
+   * NONLINEAR), and Gooch, Gooch shading instead of Blinn-Phong (initial value false). The
+   * initial values are the mapper's.
+   */
+  vtkSetMacro(GradientInterpolation, int);
+  vtkGetMacro(GradientInterpolation, int);
+  vtkSetMacro(Gooch, bool);
+  vtkGetMacro(Gooch, bool);
+  vtkBooleanMacro(Gooch, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The point array of 3-component vectors that shaded first-order pre-integration takes as
+   * its normals (see vtkPreIntegrationVolumeMapper::SetNormalArrayName). nullptr, an empty
+   * name or "None" (the GUI's entry for no array) choose VTK's central-difference gradient of
+   * the scalars. A name the input lacks is the mapper's error: nothing is drawn. Initial
+   * value is nullptr.
+   */
+  vtkSetStringMacro(NormalArrayName);
+  vtkGetStringMacro(NormalArrayName);
+  ///@}
+
+  ///@{
+  /**
    * Settings of the object-order CPU ray caster (OBJECT_ORDER), passed on unchanged to its
    * vtkObjectOrderRayCaster, which documents and clamps them: ObjectOrderClassification
    * (vtkObjectOrderRayCaster::Classifications, initial value PREINTEGRATED),
@@ -209,6 +239,9 @@ protected:
   int Iterations;
   int TablePrefilter;
   int VolumePrecision;
+  int GradientInterpolation;
+  bool Gooch;
+  char* NormalArrayName = nullptr;
   int ObjectOrderClassification;
   int ObjectOrderShading;
   bool InterleavedSampling;
