@@ -8,8 +8,8 @@
 - The moment tables are built once per transfer function, unit distance and step: camera and
   light changes reuse them; a transfer-function edit or an interpolation that needs other
   layers rebuilds them.
-- Extremes: a 1-voxel-thick volume, opacity saturating inside one segment, steps from 1/64 to
-  8 voxels, shininess 1 and the property's largest, flat data.
+- Extremes: a one-cell-thick volume, opacity saturating inside one segment, steps from 1/1000
+  to 8 voxels, shininess 1 and the property's largest, flat data.
 """
 
 import numpy
@@ -164,6 +164,13 @@ for step in (1.0 / 64.0, 8.0):
     finite_and_seen(result.image, "step %g voxel" % step, 100)
 c.check(error(renderer, "preint1-nonlinear", scene, 8.0, cone) < 0.2,
         "step 8 voxels: still an image of the volume")
+# A step of 1/1000 voxel, on a small volume (12 voxels across: 12000 samples per ray).
+small = marschner_lobb_scene((24, 24), points=9)
+shade(small.prop)
+small_cone = renderer.render("reference-cone", small, 1.0).image
+err = error(renderer, "preint1-nonlinear", small, 1e-3, small_cone)
+print("step 1/1000 voxel: RMSE %.5f" % err)
+c.check(err < 0.01, "step 1/1000 voxel: close to the reference")
 for power in (1.0, 128.0):
     scene.prop.SetSpecularPower(power)
     ref = renderer.render("reference-cone", scene, 1.0).image
