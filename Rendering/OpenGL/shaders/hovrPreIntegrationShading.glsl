@@ -81,16 +81,14 @@ vec3 hovr_average(vec3 a, vec3 b)
   return len > 1e-30 ? s / len : vec3(0.0);
 }
 
-// m = 4 (1 - cos a) / cos a (= -r of Eq. 8), cos a by the half-angle identity and clamped.
+// m = 4 (1 - cos a) / cos a (= -r of Eq. 8), cos a by the half-angle identity and clamped; 0
+// when either normal is zero (no arc). Branch-free: every lane of a SIMD group runs it alike.
 float hovr_arc(vec3 a, vec3 b)
 {
-  if (dot(a, a) < 0.5 || dot(b, b) < 0.5)
-  {
-    return 0.0;
-  }
+  float defined = step(0.5, min(dot(a, a), dot(b, b)));
   float ca = sqrt(0.5 * (1.0 + clamp(dot(a, b), -1.0, 1.0)));
   ca = max(ca, hovr_minimumCosHalfAngle);
-  return 4.0 * (1.0 - ca) / ca;
+  return defined * 4.0 * (1.0 - ca) / ca;
 }
 
 // The paper's cone (line 182).
@@ -107,14 +105,12 @@ bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
   float a1 = bh - fh + m * fh;
   float a2 = m * (bh - 2.0 * fh);
   float a3 = m * (fh - bh);
-  float roots[2];
-  int count = 0;
+  // The critical points: roots of a1 + 2 a2 u + 3 a3 u^2 (one when the cubic term vanishes),
+  // as two scalars: no local array, which a SIMD compiler keeps in memory.
+  float r0 = -1.0, r1 = -1.0;
   if (a3 == 0.0 || abs(a3) < 1e-6 * (abs(a1) + abs(a2)))
   {
-    if (a2 != 0.0)
-    {
-      roots[count++] = -a1 / (2.0 * a2);
-    }
+    r0 = a2 != 0.0 ? -a1 / (2.0 * a2) : -1.0;
   }
   else
   {
@@ -122,26 +118,15 @@ bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
     if (disc >= 0.0)
     {
       float q = -(a2 + (a2 < 0.0 ? -1.0 : 1.0) * sqrt(disc));
-      roots[count++] = q / (3.0 * a3);
-      if (q != 0.0)
-      {
-        roots[count++] = a1 / q;
-      }
+      r0 = q / (3.0 * a3);
+      r1 = q != 0.0 ? a1 / q : -1.0;
     }
   }
-  bool found = false;
-  value = 0.0;
-  for (int r = 0; r < count; ++r)
-  {
-    float u = roots[r];
-    if (u > 0.0 && u < 1.0)
-    {
-      float p = fh * (1.0 - u) + bh * u + m * (fh * u * (1.0 - u) * (1.0 - u) + bh * u * u * (1.0 - u));
-      value = found ? max(value, p) : p;
-      found = true;
-    }
-  }
-  return found;
+  bool in0 = r0 > 0.0 && r0 < 1.0, in1 = r1 > 0.0 && r1 < 1.0;
+  float p0 = fh * (1.0 - r0) + bh * r0 + m * (fh * r0 * (1.0 - r0) * (1.0 - r0) + bh * r0 * r0 * (1.0 - r0));
+  float p1 = fh * (1.0 - r1) + bh * r1 + m * (fh * r1 * (1.0 - r1) * (1.0 - r1) + bh * r1 * r1 * (1.0 - r1));
+  value = in0 && in1 ? max(p0, p1) : (in0 ? p0 : p1);
+  return in0 || in1;
 }
 #endif
 
@@ -199,12 +184,12 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
 #else
     vec3 e = hovr_orient(dot(nFront, l), dot(nBack, l));
     float f = e.x, b = e.y;
-    // The paper's three cases (lines 162-173): a negative end fades the other one out.
-    diffuse = (HOVR_INTERPOLATION == 1 || e.z != 0.0) ? max(f, 0.0) * J0.rgb + max(b, 0.0) * J1.rgb
-      : (f >= 0.0 && b >= 0.0) ? f * J0.rgb + b * J1.rgb + m * (f * J2.rgb + b * J3.rgb)
-      : f > 0.0                ? f * J0.rgb
-      : b > 0.0                ? b * J1.rgb
-                               : vec3(0.0);
+    // The paper's three cases (lines 162-173): each end faded, a negative end contributing
+    // nothing; the arc term when both ends face the light (and the segment is not split).
+    diffuse = max(f, 0.0) * J0.rgb + max(b, 0.0) * J1.rgb;
+#if HOVR_INTERPOLATION == 2
+    diffuse += (e.z == 0.0 && f >= 0.0 && b >= 0.0) ? m * (f * J2.rgb + b * J3.rgb) : vec3(0.0);
+#endif
 #endif
     float specular = 0.0;
     if (hovr_lighting.z != 0.0)
@@ -215,29 +200,19 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
       vec3 eh = hovr_orient(dot(nFront, h), dot(nBack, h));
       float fh = eh.x, bh = eh.y;
       float threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
-      if (HOVR_INTERPOLATION == 1 || eh.z != 0.0)
-      {
-        specular = max(hovr_cone(fh), 0.0) * J0.a + max(hovr_cone(bh), 0.0) * J1.a;
-      }
+      bool upFront = fh > threshold, upBack = bh > threshold;
+      // Each end's cone value faded (linear, split segments, and the paper's second case: its
+      // value, not its argument, line 210); the arc term when both ends are in the cone.
+      specular = (upFront ? hovr_cone(fh) * J0.a : 0.0) + (upBack ? hovr_cone(bh) * J1.a : 0.0);
 #if HOVR_INTERPOLATION == 2
-      else if (fh > threshold && bh > threshold)
+      if (eh.z == 0.0)
       {
-        specular = hovr_cone(fh) * J0.a + hovr_cone(bh) * J1.a + n * m * (fh * J2.a + bh * J3.a);
-      }
-      else if (fh > threshold)
-      {
-        specular = hovr_cone(fh) * J0.a; // the cone's value faded, not its argument
-      }
-      else if (bh > threshold)
-      {
-        specular = hovr_cone(bh) * J1.a;
-      }
-      else
-      {
-        // The profile stays below max(fh, bh) (1 + m / 4): no peak can reach the cone then.
+        specular += upFront && upBack ? n * m * (fh * J2.a + bh * J3.a) : 0.0;
+        // Neither end in the cone: a highlight between the samples (lines 211-215). The
+        // profile stays below max(fh, bh) (1 + m / 4): no peak reaches the cone then.
         float peak;
-        if (max(fh, bh) * (1.0 + 0.25 * m) > threshold && hovr_interiorMaximum(fh, bh, m, peak) &&
-          hovr_cone(peak) > 0.0)
+        if (!upFront && !upBack && max(fh, bh) * (1.0 + 0.25 * m) > threshold &&
+          hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
         {
           specular = hovr_cone(peak) * hovr_layer(4, coord).r;
         }
