@@ -10,18 +10,22 @@
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkPreIntegrationRayMarch.h"
 #include "vtkPreIntegrationTable.h"
 #include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
+#include "vtkVolumeShadingModel.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkPreIntegrationRayCaster);
 vtkCxxSetObjectMacro(vtkPreIntegrationRayCaster, Table, vtkPreIntegrationTable);
+vtkCxxSetObjectMacro(vtkPreIntegrationRayCaster, ShadingModel, vtkVolumeShadingModel);
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationRayCaster::vtkPreIntegrationRayCaster() = default;
@@ -30,6 +34,8 @@ vtkPreIntegrationRayCaster::vtkPreIntegrationRayCaster() = default;
 vtkPreIntegrationRayCaster::~vtkPreIntegrationRayCaster()
 {
   this->SetTable(nullptr);
+  this->SetShadingModel(nullptr);
+  this->SetNormalArrayName(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -39,6 +45,10 @@ vtkMTimeType vtkPreIntegrationRayCaster::GetMTime()
   if (this->Table)
   {
     time = std::max(time, this->Table->GetMTime());
+  }
+  if (this->ShadingModel)
+  {
+    time = std::max(time, this->ShadingModel->GetMTime());
   }
   return time;
 }
@@ -83,6 +93,51 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
     vtkErrorMacro("Second-order compositing needs a vtkSecondOrderPreIntegrationTable.");
     return 1;
   }
+  vtkVolumeShadingModel* model = this->ShadingModel;
+  if (model && order != 1)
+  {
+    vtkErrorMacro("Shading is first order only: second-order compositing (a second-order "
+                  "table or SECOND_ORDER integration) cannot be shaded; the image is empty.");
+    return 1;
+  }
+  // The moment layers the table path reads, as vtkPreIntegrationVolumeMapper asks them.
+  const int needed = !model                                                 ? 0
+    : model->GetGradientInterpolation() != vtkVolumeShadingModel::NONLINEAR ? 2
+    : model->GetGooch()                                                     ? 4
+                                                                            : 5;
+  if (model && !this->ExactSegments)
+  {
+    const int moments = chordTable ? chordTable->GetMoments() : 0;
+    if (!chordTable || moments < needed)
+    {
+      vtkErrorMacro("Shaded compositing from the table needs the moment layers of a first-order "
+                    "vtkSecondOrderPreIntegrationTable (DeviationSize 1, Moments at least "
+        << needed << " for this gradient interpolation"
+        << (model->GetGooch() ? " with Gooch shading" : "") << "); the table has "
+        << (chordTable ? "Moments " + std::to_string(moments)
+                       : std::string("none (a vtkFirstOrderPreIntegrationTable)"))
+        << ". The image is empty.");
+      return 1;
+    }
+  }
+  std::vector<double> normals;
+  if (model && this->NormalArrayName && *this->NormalArrayName)
+  {
+    vtkDataArray* array = input->GetPointData()->GetArray(this->NormalArrayName);
+    const vtkIdType n = scalars->GetNumberOfTuples();
+    if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
+    {
+      vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
+                                         << "\" names no point array of 3-component vectors, "
+                                            "one per point; the image is empty.");
+      return 1;
+    }
+    normals.resize(3 * static_cast<size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      array->GetTuple(i, normals.data() + 3 * i);
+    }
+  }
   this->Table->SetVolumeProperty(this->VolumeProperty);
   this->Table->SetSegmentLength((order == 2 ? 2.0 : 1.0) * this->SampleDistance);
   this->Table->SetScalarRange(range);
@@ -113,6 +168,28 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
   for (int r = 0; r < 3; ++r)
   {
     toIndex->SetElement(r, 3, toIndex->GetElement(r, 3) - extent[2 * r]);
+    for (int a = 0; a < 3; ++a)
+    {
+      grid.WorldToIndex[3 * r + a] = toIndex->GetElement(r, a);
+    }
+  }
+  grid.Normals = normals.empty() ? nullptr : normals.data();
+  grid.CellStepGradients = this->GradientOperator == GPU_GRADIENTS;
+
+  // Shaded pieces (their view is set per ray).
+  vtkPreIntegrationRayMarch::ShadedTablePieces shadedTable;
+  vtkPreIntegrationRayMarch::ShadedExactPieces shadedExact;
+  if (model)
+  {
+    shadedTable.Table = table.Table;
+    shadedTable.Layers = chordTable ? chordTable->GetNumberOfLayers() : 1;
+    shadedTable.LayerStride =
+      static_cast<vtkIdType>(table.Table.Size[0]) * table.Table.Size[1] * table.Table.Size[2];
+    shadedTable.Model = model;
+    shadedExact.Sampler = this->Sampler;
+    shadedExact.Model = model;
+    shadedExact.Substeps = this->ShadedSubsteps;
+    shadedExact.DataRange = exact.DataRange;
   }
   const int* size = this->RayModel->GetImageSize();
   const int width = std::max(size[0], 1), height = std::max(size[1], 1);
@@ -147,7 +224,24 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
               t1,
               result);
           };
-          if (this->ExactSegments)
+          if (model)
+          {
+            // Towards the eye: the pixel ray reversed (unit, world coordinates).
+            const double view[3] = { -direction[0], -direction[1], -direction[2] };
+            if (this->ExactSegments)
+            {
+              auto pieces = shadedExact;
+              std::copy(view, view + 3, pieces.View);
+              cast(pieces);
+            }
+            else
+            {
+              auto pieces = shadedTable;
+              std::copy(view, view + 3, pieces.View);
+              cast(pieces);
+            }
+          }
+          else if (this->ExactSegments)
           {
             cast(exact);
           }
@@ -176,4 +270,10 @@ void vtkPreIntegrationRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Integration: " << this->Integration << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
+  os << indent << "ShadingModel: " << this->ShadingModel << "\n";
+  os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")
+     << "\n";
+  os << indent << "ShadedSubsteps: " << this->ShadedSubsteps << "\n";
+  os << indent << "GradientOperator: "
+     << (this->GradientOperator == GPU_GRADIENTS ? "GPU_GRADIENTS" : "POINT_GRADIENTS") << "\n";
 }

@@ -29,6 +29,36 @@
  * functions, segment length and scalar range (the data's finite range, as the mapper does) and
  * updates them. Point scalars, one component; NaN samples make their segments transparent, as on
  * the GPU.
+ *
+ * Shading (SetShadingModel), first order only, as vtkPreIntegrationVolumeMapper shades (Guetat
+ * et al. 2010, hovrPreIntegrationShading.glsl): each segment takes the normals at its two ends
+ * (its samples; the box entry for the first segment, the exit for the last): the gradient as
+ * GradientOperator says (by default VTK's GPU ray caster's, which the mapper uses) or the
+ * trilinear interpolation of NormalArrayName's vectors, normalised (zero where it vanishes);
+ * the view is the pixel ray's direction reversed; all in world coordinates, where the model's
+ * lights are given (a headlight shines along the view). The segment is then composited:
+ *   - from the table (ExactSegments off): the moment layers of a first-order
+ *     vtkSecondOrderPreIntegrationTable (DeviationSize 1, Moments > 0: 2 layers for constant
+ *     and linear gradient interpolation, 5 for non-linear, 4 for non-linear Gooch), each read
+ *     with the bilinear lookup of the unshaded path, lit by
+ *     vtkVolumeShadingModel::ShadeSegment() with the model's GradientInterpolation; opacity
+ *     J'_0 + J'_1; a partial segment scaled as an unshaded one. This is the CPU mirror of the
+ *     GLSL: its image is the mapper's up to the GPU's float rounding;
+ *   - exactly (ExactSegments on; R2, the segment-model reference of the design note
+ *     shading-and-adaptive-sampling.md, A.13): the scalar linear across the segment, the
+ *     normal nlerp(front, back, u) normalised exactly (zero where it vanishes), ShadedSubsteps
+ *     midpoint steps per segment (more where the transfer function needs finer ones, as the
+ *     unshaded exact path takes them), each lit by vtkVolumeShadingModel::ShadePoint() (with
+ *     the model's SpecularModel: CONE is what the table path uses) times the step's opacity
+ *     1 - exp(-tau dt), composited front to back in double. With the cone, the mapper's error
+ *     against R2 is that of shaded pre-integration's approximations (the quadratic
+ *     normalisation of Eq. 5, the fades of the cases, the tables), and R2's error against
+ *     vtkVolumeReferenceIntegrator with the same model that of the segment model (linear
+ *     scalar, nlerp normal).
+ * Shading with a second-order table or SECOND_ORDER integration, and the table path with a
+ * table without the moment layers the interpolation reads, are errors (an empty image). The
+ * model is used as given, whatever the property's Shade flag: its coefficients and lights are
+ * the caller's (vtkVolumeShadingModel::SetFromProperty copies the property's coefficients).
  */
 #ifndef vtkPreIntegrationRayCaster_h
 #define vtkPreIntegrationRayCaster_h
@@ -37,6 +67,7 @@
 #include "vtkVolumeImageAlgorithm.h"
 
 class vtkPreIntegrationTable;
+class vtkVolumeShadingModel;
 
 class HOVRRENDERINGCORE_EXPORT vtkPreIntegrationRayCaster : public vtkVolumeImageAlgorithm
 {
@@ -81,7 +112,8 @@ public:
   ///@{
   /**
    * Integrate each segment's model scalar path instead of reading the table (which is then
-   * only used for its order). Initial value is false.
+   * only used for its order); shaded, the segment-model reference R2 (see the class
+   * description). Initial value is false.
    */
   vtkSetMacro(ExactSegments, bool);
   vtkGetMacro(ExactSegments, bool);
@@ -106,6 +138,59 @@ public:
   vtkGetMacro(MaximumSamplesPerRay, double);
   ///@}
 
+  ///@{
+  /**
+   * The lighting of shaded first-order compositing (see the class description): nullptr
+   * composites unshaded. Initial value is nullptr.
+   */
+  virtual void SetShadingModel(vtkVolumeShadingModel*);
+  vtkGetObjectMacro(ShadingModel, vtkVolumeShadingModel);
+  ///@}
+
+  ///@{
+  /**
+   * Shading: the point array of 3-component vectors whose trilinear interpolation,
+   * normalised, is the normal (as vtkPreIntegrationVolumeMapper::NormalArrayName and
+   * vtkVolumeReferenceIntegrator::NormalArrayName), instead of the gradient; in world units
+   * (the data's coordinates). nullptr or empty: the gradient. Initial value is nullptr.
+   */
+  vtkSetStringMacro(NormalArrayName);
+  vtkGetStringMacro(NormalArrayName);
+  ///@}
+
+  enum GradientOperators
+  {
+    GPU_GRADIENTS = 0,  ///< VTK 9.1's GPU ray caster's (computeGradient), the mapper's
+    POINT_GRADIENTS = 1 ///< vtkVolumeReferenceIntegrator's
+  };
+
+  ///@{
+  /**
+   * Shading: the gradient that gives the normals (without NormalArrayName), divided by the
+   * spacing. GPU_GRADIENTS: the difference of the trilinear field one texture cell step either
+   * side along each axis, as VTK's shader takes it: the step is 1 / (n - 1) of a texture of n
+   * texels, n / (n - 1) points (1.025 for 41 points), not one point; the positions clamped to
+   * the box as the texture's clamp-to-edge does. POINT_GRADIENTS: the trilinear interpolation
+   * of per-point differences of the neighbours one point away, one-sided at the faces
+   * (vtkVolumeReferenceIntegrator's; the difference of the trilinear field one point either
+   * side). Both are the central difference of the trilinear field, at slightly different
+   * reaches: the table path needs GPU_GRADIENTS to draw the mapper's image, and R2 with
+   * POINT_GRADIENTS differs from the reference integrator by the segment model alone.
+   * Initial value is GPU_GRADIENTS.
+   */
+  vtkSetClampMacro(GradientOperator, int, GPU_GRADIENTS, POINT_GRADIENTS);
+  vtkGetMacro(GradientOperator, int);
+  ///@}
+
+  ///@{
+  /**
+   * Shaded exact segments (R2): midpoint steps per segment, at least (more where the transfer
+   * function's narrowest feature the segment meets needs them). Initial value is 256.
+   */
+  vtkSetClampMacro(ShadedSubsteps, int, 1, 1000000);
+  vtkGetMacro(ShadedSubsteps, int);
+  ///@}
+
   vtkMTimeType GetMTime() override;
 
 protected:
@@ -120,6 +205,10 @@ protected:
   int Integration = TABLE_ORDER;
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
   double MaximumSamplesPerRay = 1e5;
+  vtkVolumeShadingModel* ShadingModel = nullptr;
+  char* NormalArrayName = nullptr;
+  int ShadedSubsteps = 256;
+  int GradientOperator = GPU_GRADIENTS;
 
 private:
   vtkPreIntegrationRayCaster(const vtkPreIntegrationRayCaster&) = delete;

@@ -15,6 +15,12 @@
  *     optical depth scaled by the length);
  *   - ExactPieces integrates the model scalar path (linear or quadratic, Eq. 2) through the
  *     transfer function, with pieces no wider than a scalar step, in double.
+ * Shaded first order (Guetat et al. 2010, as hovrPreIntegrationShading.glsl) takes the normals
+ * at both ends of each segment (Grid::Normal: VTK's normalised central-difference gradient):
+ *   - ShadedTablePieces reads the moment layers of the table and lights them with
+ *     vtkVolumeShadingModel::ShadeSegment(), as the GLSL does;
+ *   - ShadedExactPieces integrates the segment model (linear scalar, nlerp normal) point by
+ *     point with vtkVolumeShadingModel::ShadePoint(): the segment-model reference R2.
  * vtkPreIntegrationRayCaster renders camera images with it; vtkPreIntegrationTableSizer
  * measures candidate tables on random rays with it.
  */
@@ -24,10 +30,12 @@
 #include "vtkFloatArray.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkType.h"
+#include "vtkVolumeShadingModel.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 class vtkPreIntegrationRayMarch
 {
@@ -60,6 +68,97 @@ public:
       const double c0 = c00 + w[1] * (c10 - c00);
       const double c1 = c01 + w[1] * (c11 - c01);
       return c0 + w[2] * (c1 - c0);
+    }
+
+    // Shading: the normal at p (clamped to the box), normalised (zero where it vanishes or is
+    // not finite), in world units. With Normals (3 per point, world units), the trilinear
+    // interpolation of those vectors. Else the gradient, in index space along each axis a:
+    //   - CellStepGradients (VTK 9.1's GPU ray caster, computeGradient): the difference of the
+    //     trilinear field one texture cell step (1 / (Dims[a] - 1) of the texture, that is
+    //     Dims[a] / (Dims[a] - 1) points) either side of p, the positions clamped to the box as
+    //     the texture's clamp-to-edge clamps them;
+    //   - otherwise vtkVolumeReferenceIntegrator's: the trilinear interpolation of per-point
+    //     differences of the neighbours one point away, one-sided at the faces (the central
+    //     difference of the trilinear field one point either side, clamped);
+    // then taken to world units by M^T, M = WorldToIndex the 3 x 3 world-to-index matrix (row
+    // major): divided by the spacing for an axis-aligned grid, as VTK divides it.
+    const double* Normals = nullptr;
+    bool CellStepGradients = true;
+    double WorldToIndex[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+
+    void Normal(const double p[3], double n[3]) const
+    {
+      double g[3] = { 0, 0, 0 };
+      if (this->Normals || !this->CellStepGradients)
+      {
+        int cell[3];
+        double w[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          const double x = std::min(std::max(p[a], 0.0), this->Dims[a] - 1.0);
+          cell[a] = std::min(static_cast<int>(x), this->Dims[a] - 2);
+          w[a] = x - cell[a];
+        }
+        const vtkIdType stride[3] = {
+          1, this->Dims[0], static_cast<vtkIdType>(this->Dims[0]) * this->Dims[1]
+        };
+        for (int c = 0; c < 8; ++c)
+        {
+          const int q[3] = {
+            cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + ((c >> 2) & 1)
+          };
+          const double weight = ((c & 1) ? w[0] : 1.0 - w[0]) * ((c & 2) ? w[1] : 1.0 - w[1]) *
+            ((c & 4) ? w[2] : 1.0 - w[2]);
+          const vtkIdType base = q[0] + q[1] * stride[1] + q[2] * stride[2];
+          for (int a = 0; a < 3; ++a)
+          {
+            double d;
+            if (this->Normals)
+            {
+              d = this->Normals[3 * base + a];
+            }
+            else
+            {
+              const vtkIdType up = q[a] + 1 < this->Dims[a] ? stride[a] : 0;
+              const vtkIdType down = q[a] > 0 ? stride[a] : 0;
+              d = this->Values[base + up] - this->Values[base - down];
+            }
+            g[a] += weight * d;
+          }
+        }
+      }
+      else
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          const double reach = this->Dims[a] / (this->Dims[a] - 1.0);
+          double ahead[3] = { p[0], p[1], p[2] }, behind[3] = { p[0], p[1], p[2] };
+          ahead[a] += reach;
+          behind[a] -= reach;
+          g[a] = this->Sample(ahead) - this->Sample(behind);
+        }
+      }
+      if (!this->Normals)
+      {
+        const double index[3] = { g[0], g[1], g[2] };
+        const double* m = this->WorldToIndex;
+        for (int a = 0; a < 3; ++a)
+        {
+          g[a] = m[a] * index[0] + m[3 + a] * index[1] + m[6 + a] * index[2];
+        }
+      }
+      Normalize(g, n);
+    }
+
+    // v / |v|, zero where |v| vanishes or is not finite.
+    static void Normalize(const double v[3], double n[3])
+    {
+      const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      const bool valid = norm > 0.0 && std::isfinite(norm);
+      for (int a = 0; a < 3; ++a)
+      {
+        n[a] = valid ? v[a] / norm : 0.0;
+      }
     }
 
     // The interval [t0, t1] of the ray o + t v (t >= 0) inside the box of the points; false
@@ -290,6 +389,125 @@ public:
     }
   };
 
+  // Shaded first-order segments read from the moment layers of a first-order
+  // vtkSecondOrderPreIntegrationTable (Moments > 0) and lit by the model's ShadeSegment(), as
+  // hovrPreIntegrationShading.glsl does: each layer is read with the bilinear lookup of
+  // TablePieces (layers missing from the table read as zero), the opacity is J'_0 + J'_1 and
+  // a partial segment is scaled as an unshaded one.
+  struct ShadedTablePieces
+  {
+    TableView Table;           // the first layer's view
+    int Layers = 0;            // layers the table stores
+    vtkIdType LayerStride = 0; // entries per layer
+    const vtkVolumeShadingModel* Model = nullptr;
+    double View[3] = { 0, 0, 1 }; // unit, towards the eye: set per ray
+
+    void ShadedSegment(double sf,
+      double sb,
+      const double nf[3],
+      const double nb[3],
+      double fraction,
+      double length,
+      double rgba[4]) const
+    {
+      (void)length;
+      double v[3];
+      this->Table.SegmentAxes(sf, sb, v);
+      vtkIdType index[8];
+      double weight[8];
+      this->Table.Corners(v, index, weight);
+      double moments[5][4] = {};
+      for (int l = 0; l < std::min(this->Layers, 5); ++l)
+      {
+        for (int c = 0; c < (1 << this->Table.Dimensions); ++c)
+        {
+          const float* e = this->Table.Entries + 4 * (index[c] + l * this->LayerStride);
+          for (int k = 0; k < 4; ++k)
+          {
+            moments[l][k] += weight[c] * e[k];
+          }
+        }
+      }
+      this->Model->ShadeSegment(moments, nf, nb, this->View, rgba);
+      rgba[3] = moments[0][3] + moments[1][3];
+      Scale(rgba, fraction);
+    }
+  };
+
+  // Shaded first-order segments integrated along the segment model (R2 of the design note):
+  // the scalar linear from front to back, the normal nlerp(nf, nb, u) exactly normalised (zero
+  // where it vanishes), lit point by point by the model's ShadePoint(); Substeps midpoint steps
+  // per segment, more where the transfer function needs them (ExactPieces' rule), each
+  // composited with the exact exponential of its extinction. A segment whose scalar meets no
+  // opacity adds nothing and is skipped.
+  struct ShadedExactPieces
+  {
+    const vtkVolumeTransferFunctionSampler* Sampler = nullptr;
+    const vtkVolumeShadingModel* Model = nullptr;
+    int Substeps = 256;
+    double Tolerance = 1.0 / 64.0;
+    double DataRange = 1.0;
+    double View[3] = { 0, 0, 1 }; // unit, towards the eye: set per ray
+
+    void ShadedSegment(double sf,
+      double sb,
+      const double nf[3],
+      const double nb[3],
+      double fraction,
+      double length,
+      double rgba[4]) const
+    {
+      std::fill(rgba, rgba + 4, 0.0);
+      const double lo = std::min(sf, sb), hi = std::max(sf, sb);
+      if (!(this->Sampler->GetMaximumOpacity(lo, hi) > 0.0))
+      {
+        return;
+      }
+      const double feature = std::min(this->Sampler->GetSmallestFeature(lo, hi), this->DataRange);
+      const double step = feature > 0.0 && feature < 1e300 ? this->Tolerance * feature : 1e300;
+      const int n = static_cast<int>(std::min(
+        std::max(std::ceil((hi - lo) / step), static_cast<double>(std::max(this->Substeps, 1))),
+        1e6));
+      const double h = fraction * length / n;
+      double transmittance = 1.0;
+      for (int k = 0; k < n; ++k)
+      {
+        const double u = (k + 0.5) / n;
+        double sample[4];
+        this->Sampler->Evaluate(sf + u * (sb - sf), sample);
+        if (!(sample[3] > 0.0))
+        {
+          continue;
+        }
+        const double mix[3] = { (1.0 - u) * nf[0] + u * nb[0],
+          (1.0 - u) * nf[1] + u * nb[1],
+          (1.0 - u) * nf[2] + u * nb[2] };
+        double normal[3], colour[3] = { sample[0], sample[1], sample[2] }, shaded[3];
+        Grid::Normalize(mix, normal);
+        this->Model->ShadePoint(normal, this->View, colour, shaded);
+        const double alpha = -std::expm1(-sample[3] * h);
+        const double weight = transmittance * alpha;
+        for (int c = 0; c < 3; ++c)
+        {
+          rgba[c] += weight * shaded[c];
+        }
+        transmittance *= 1.0 - alpha;
+      }
+      rgba[3] = 1.0 - transmittance;
+    }
+  };
+
+  // Whether a Pieces policy shades (has ShadedSegment): Cast then computes the normals at the
+  // samples and composites first order only.
+  template <class Pieces, class = void>
+  struct IsShaded : std::false_type
+  {
+  };
+  template <class Pieces>
+  struct IsShaded<Pieces, std::void_t<decltype(&Pieces::ShadedSegment)>> : std::true_type
+  {
+  };
+
   // Front-to-back compositing; false once the ray is opaque enough to stop. NaN pieces (a
   // NaN sample) add nothing.
   static bool Composite(const double piece[4], double threshold, double rgba[4])
@@ -308,7 +526,9 @@ public:
 
   /**
    * The ray o + t v (grid index; t in world units, v the index-space image of a unit world
-   * direction) from t0 to t1 inside the box, samples `step` apart, `order` 1 or 2.
+   * direction) from t0 to t1 inside the box, samples `step` apart, `order` 1 or 2. Shaded
+   * pieces (IsShaded) get the grid's normals at both ends of each segment and composite first
+   * order only (order 2 leaves the ray transparent).
    */
   template <class Pieces>
   static void Cast(const Grid& grid,
@@ -328,10 +548,21 @@ public:
       const double p[3] = { o[0] + t * v[0], o[1] + t * v[1], o[2] + t * v[2] };
       return grid.Sample(p);
     };
+    constexpr bool shaded = IsShaded<Pieces>::value;
+    auto normalAt = [&](double t, double n[3])
+    {
+      if (shaded)
+      {
+        const double p[3] = { o[0] + t * v[0], o[1] + t * v[1], o[2] + t * v[2] };
+        grid.Normal(p, n);
+      }
+    };
     const double h = step;
     const double length = t1 - t0;
     double piece[4];
     double sFront = at(t0);
+    double nFront[3] = { 0, 0, 0 }, nBack[3] = { 0, 0, 0 };
+    normalAt(t0, nFront);
     if (order == 1)
     {
       // Samples at t0 + k h, k >= 1; segments between them, the last one up to the exit,
@@ -344,11 +575,17 @@ public:
         {
           break;
         }
-        const double sBack = at(last ? t1 : t0 + k * h);
+        const double tBack = last ? t1 : t0 + k * h;
+        const double sBack = at(tBack);
+        normalAt(tBack, nBack);
         // A NaN sample makes its segments transparent (the GLSL skips them).
         if (std::isnan(sFront + sBack))
         {
           std::fill(piece, piece + 4, 0.0);
+        }
+        else if constexpr (shaded)
+        {
+          pieces.ShadedSegment(sFront, sBack, nFront, nBack, fraction, h, piece);
         }
         else
         {
@@ -359,9 +596,33 @@ public:
           break;
         }
         sFront = sBack;
+        std::copy(nBack, nBack + 3, nFront);
       }
       return;
     }
+    if constexpr (shaded)
+    {
+      return; // shaded pre-integration is first order only
+    }
+    else
+    {
+      CastSlabs(pieces, h, threshold, at, t0, t1, sFront, rgba);
+    }
+  }
+
+  // Second order: slabs of two steps from t0, then the rest.
+  template <class Pieces, class At>
+  static void CastSlabs(const Pieces& pieces,
+    double h,
+    double threshold,
+    const At& at,
+    double t0,
+    double t1,
+    double sFront,
+    double rgba[4])
+  {
+    const double length = t1 - t0;
+    double piece[4];
     // Slabs (front, middle, back) of two samples from the entry; the rest as one piece
     // through its front, midpoint and end.
     double front = 0.0; // distance of the slab's front from the entry

@@ -118,10 +118,11 @@ public:
   /**
    * The lighting of composite blending when the volume property's Shade is on: emission per
    * unit extinction is vtkVolumeShadingModel::ShadePoint() of the transfer function's colour,
-   * the normal being the trilinear interpolation of the per-point gradients of VTK's GPU ray
-   * caster (differences of the neighbours, one-sided at the faces; the same as the central
-   * difference of the trilinear field, which is what VTK's shader takes), normalised, and the
-   * view the pixel ray's direction reversed. Integration pieces are then also fine enough for
+   * the normal being the trilinear interpolation of per-point central differences (of the
+   * neighbours one point away, one-sided at the faces: the central difference of the trilinear
+   * field), normalised, and the view the pixel ray's direction reversed. VTK's GPU ray caster
+   * reaches one texture step of 1/(n - 1) either side, n/(n - 1) points on n points: its
+   * normals differ slightly (vtkPreIntegrationRayCaster::GradientOperator models both). Integration pieces are then also fine enough for
    * the normal to turn by at most ScalarTolerance * 4 / sqrt(n) radians per piece (n the
    * specular power: the lobe's width). nullptr (the initial value) uses a model made from
    * the property's coefficients with VTK's default lighting: a white headlight, both sides
