@@ -218,8 +218,14 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
           for (int j = 0; j <= (nb - 1) / 2; ++j)
           {
             const int mirror = nb - 1 - j;
-            kernel.IntegrateMoments(static_cast<int>(i), j, samples, runs, steps, this->Moments,
-              stride, table + 4 * (i + static_cast<vtkIdType>(nc) * j),
+            kernel.IntegrateMoments(static_cast<int>(i),
+              j,
+              samples,
+              runs,
+              steps,
+              this->Moments,
+              stride,
+              table + 4 * (i + static_cast<vtkIdType>(nc) * j),
               mirror != j ? table + 4 * (i + static_cast<vtkIdType>(nc) * mirror) : nullptr);
           }
         }

@@ -186,8 +186,12 @@ struct vtkSecondOrderPreIntegrationTableKernel
     }
   }
 
-  static void CompositeMoments(
-    const float* steps, int n, bool reversed, int layers, size_t stride, float* out)
+  static void CompositeMoments(const float* steps,
+    int n,
+    bool reversed,
+    int layers,
+    size_t stride,
+    float* out)
   {
     float sum[5][4] = {};
     float transmittance = 1.0f;

@@ -448,8 +448,8 @@ public:
     n[0] = n[1] = n[2] = 0.0;
     for (int c = 0; c < 8; ++c)
     {
-      const double w = ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) *
-        ((c & 4) ? u[2] : 1 - u[2]);
+      const double w =
+        ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) * ((c & 4) ? u[2] : 1 - u[2]);
       for (int a = 0; a < 3; ++a)
       {
         n[a] += w * gradients[c][a];
@@ -508,7 +508,8 @@ public:
         // Also as fine as the lighting's narrowest lobe where the normals turn: the turn
         // along the piece is at most the corners' spread times the piece's share of a cell.
         const double spread = this->CornerGradients(cell, gradients);
-        const double share = std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
+        const double share =
+          std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
         n = std::max(n, std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6));
       }
       const int count = std::max(1, static_cast<int>(n));
@@ -700,8 +701,8 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
       if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
       {
         vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
-                                          << "\" names no point array of 3-component vectors, "
-                                             "one per point; the image is empty.");
+                                           << "\" names no point array of 3-component vectors, "
+                                              "one per point; the image is empty.");
         return 1;
       }
       normals.resize(3 * static_cast<size_t>(n));

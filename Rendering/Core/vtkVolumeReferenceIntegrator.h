@@ -122,11 +122,11 @@ public:
    * neighbours one point away, one-sided at the faces: the central difference of the trilinear
    * field), normalised, and the view the pixel ray's direction reversed. VTK's GPU ray caster
    * reaches one texture step of 1/(n - 1) either side, n/(n - 1) points on n points: its
-   * normals differ slightly (vtkPreIntegrationRayCaster::GradientOperator models both). Integration pieces are then also fine enough for
-   * the normal to turn by at most ScalarTolerance * 4 / sqrt(n) radians per piece (n the
-   * specular power: the lobe's width). nullptr (the initial value) uses a model made from
-   * the property's coefficients with VTK's default lighting: a white headlight, both sides
-   * lit, the lobe.
+   * normals differ slightly (vtkPreIntegrationRayCaster::GradientOperator models both). Integration
+   * pieces are then also fine enough for the normal to turn by at most ScalarTolerance * 4 /
+   * sqrt(n) radians per piece (n the specular power: the lobe's width). nullptr (the initial value)
+   * uses a model made from the property's coefficients with VTK's default lighting: a white
+   * headlight, both sides lit, the lobe.
    */
   virtual void SetShadingModel(vtkVolumeShadingModel*);
   vtkGetObjectMacro(ShadingModel, vtkVolumeShadingModel);

@@ -188,7 +188,8 @@ bool vtkVolumeShadingModel::TransformLights(vtkMatrix4x4* volumeMatrix)
     const double d[3] = { light.Direction[0], light.Direction[1], light.Direction[2] };
     for (int r = 0; r < 3; ++r)
     {
-      light.Direction[r] = inverse[4 * r] * d[0] + inverse[4 * r + 1] * d[1] + inverse[4 * r + 2] * d[2];
+      light.Direction[r] =
+        inverse[4 * r] * d[0] + inverse[4 * r + 1] * d[1] + inverse[4 * r + 2] * d[2];
     }
     Normalize(light.Direction);
   }
@@ -197,8 +198,11 @@ bool vtkVolumeShadingModel::TransformLights(vtkMatrix4x4* volumeMatrix)
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeShadingModel::GetLight(
-  int k, double towardLight[3], double diffuse[3], double specular[3], bool& headlight) const
+void vtkVolumeShadingModel::GetLight(int k,
+  double towardLight[3],
+  double diffuse[3],
+  double specular[3],
+  bool& headlight) const
 {
   const Light& light = this->Lights.at(k);
   std::copy(light.Direction, light.Direction + 3, towardLight);
@@ -208,8 +212,10 @@ void vtkVolumeShadingModel::GetLight(
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeShadingModel::ShadePoint(
-  const double normal[3], const double view[3], const double colour[3], double rgb[3]) const
+void vtkVolumeShadingModel::ShadePoint(const double normal[3],
+  const double view[3],
+  const double colour[3],
+  double rgb[3]) const
 {
   const double n = this->SpecularPower;
   if (this->Gooch)
@@ -219,7 +225,8 @@ void vtkVolumeShadingModel::ShadePoint(
       : Dot(normal, this->Lights[0].Headlight ? view : this->Lights[0].Direction);
     for (int c = 0; c < 3; ++c)
     {
-      rgb[c] = 0.5 * (this->GoochCool[c] + this->GoochAlpha * this->Diffuse * colour[c]) * (1 + nl) +
+      rgb[c] =
+        0.5 * (this->GoochCool[c] + this->GoochAlpha * this->Diffuse * colour[c]) * (1 + nl) +
         0.5 * (this->GoochWarm[c] + this->GoochBeta * this->Diffuse * colour[c]) * (1 - nl);
     }
     return;
@@ -299,7 +306,8 @@ bool vtkVolumeShadingModel::InteriorMaximum(double fh, double bh, double m, doub
     const double u = roots[r];
     if (u > 0.0 && u < 1.0)
     {
-      const double p = fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u));
+      const double p =
+        fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u));
       value = found ? std::max(value, p) : p;
       found = true;
     }
@@ -343,7 +351,9 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
 
   if (this->Gooch)
   {
-    const double* l = this->Lights.empty() ? nullptr : (this->Lights[0].Headlight ? view : this->Lights[0].Direction);
+    const double* l = this->Lights.empty()
+      ? nullptr
+      : (this->Lights[0].Headlight ? view : this->Lights[0].Direction);
     double p[4] = { 0, 0, 0, 0 };
     if (l)
     {
@@ -371,7 +381,8 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
     {
       rgb[c] = 0.5 * (this->GoochCool[c] + this->GoochWarm[c]) * I0[3] +
         0.5 * this->Diffuse * (a + b) * I0[c] +
-        0.5 * (this->GoochCool[c] - this->GoochWarm[c]) * p[3] + 0.5 * this->Diffuse * (a - b) * p[c];
+        0.5 * (this->GoochCool[c] - this->GoochWarm[c]) * p[3] +
+        0.5 * this->Diffuse * (a - b) * p[c];
     }
     return;
   }

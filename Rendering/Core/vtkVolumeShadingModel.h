@@ -202,15 +202,20 @@ public:
   /**
    * Light k: its towards-light direction, colours and whether it is a headlight.
    */
-  void GetLight(int k, double towardLight[3], double diffuse[3], double specular[3],
+  void GetLight(int k,
+    double towardLight[3],
+    double diffuse[3],
+    double specular[3],
     bool& headlight) const;
 
   /**
    * Emission per unit extinction at a point (see the class description): normal unit or zero,
    * view the unit direction towards the eye, colour the transfer function's.
    */
-  void ShadePoint(
-    const double normal[3], const double view[3], const double colour[3], double rgb[3]) const;
+  void ShadePoint(const double normal[3],
+    const double view[3],
+    const double colour[3],
+    double rgb[3]) const;
 
   /**
    * The shaded emission of a segment (premultiplied, attenuation inside the segment included)

@@ -24,11 +24,11 @@
 #include "vtkVolumeTransferFunctionSampler.h"
 #include "vtk_glew.h"
 
-#include "hovrPreIntegration1.h"      // the GLSL of first-order pre-integration
-#include "hovrPreIntegration2.h"      // the GLSL of second-order pre-integration
-#include "hovrPreIntegrationCommon.h" // the GLSL both orders share
+#include "hovrPreIntegration1.h"       // the GLSL of first-order pre-integration
+#include "hovrPreIntegration2.h"       // the GLSL of second-order pre-integration
+#include "hovrPreIntegrationCommon.h"  // the GLSL both orders share
 #include "hovrPreIntegrationShading.h" // the GLSL of shaded first-order segments
-#include "hovrSlabExtremum.h"         // the slab's extremum, shared with the table builder
+#include "hovrSlabExtremum.h"          // the slab's extremum, shared with the table builder
 
 #include <algorithm>
 #include <cmath>
@@ -388,9 +388,8 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
     layers = mode == vtkVolumeShadingModel::NONLINEAR ? (model->GetGooch() ? 4 : 5) : 2;
     const bool normals = this->NormalArrayName && *this->NormalArrayName;
     switches = std::string("#define HOVR_NORMALS ") + (normals ? "1" : "0") +
-      "\n#define HOVR_LAYERS " + std::to_string(layers) +
-      "\n#define HOVR_INTERPOLATION " + std::to_string(mode) + "\n#define HOVR_GOOCH " +
-      (model->GetGooch() ? "1" : "0") + "\n";
+      "\n#define HOVR_LAYERS " + std::to_string(layers) + "\n#define HOVR_INTERPOLATION " +
+      std::to_string(mode) + "\n#define HOVR_GOOCH " + (model->GetGooch() ? "1" : "0") + "\n";
   }
   if (switches != this->ShadingSwitches)
   {
@@ -416,8 +415,8 @@ bool vtkPreIntegrationVolumeMapper::UploadNormals(vtkRenderer* ren, const int di
   if (!normals || normals->GetNumberOfComponents() != 3 || normals->GetNumberOfTuples() != points)
   {
     vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
-                                      << "\" names no point array of 3-component vectors, one "
-                                         "per point of the volume; not drawing.");
+                                       << "\" names no point array of 3-component vectors, one "
+                                          "per point of the volume; not drawing.");
     return false;
   }
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
@@ -732,13 +731,14 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     this->TableTexture->SetFormat(GL_RGBA);
     this->TableTexture->SetDataType(GL_FLOAT);
     void* data = table->GetTable()->GetVoidPointer(0);
-    const bool created = volume ? this->TableTexture->Create3DFromRaw(n, nb, depth, 4, VTK_FLOAT, data)
-                                : this->TableTexture->Create2DFromRaw(n, rows, 4, VTK_FLOAT, data);
+    const bool created = volume
+      ? this->TableTexture->Create3DFromRaw(n, nb, depth, 4, VTK_FLOAT, data)
+      : this->TableTexture->Create2DFromRaw(n, rows, 4, VTK_FLOAT, data);
     if (!created)
     {
-      vtkErrorMacro("Could not create the " << n << " x " << (volume ? nb : rows) << (volume ? " x " : "")
-                                            << (volume ? std::to_string(depth) : std::string())
-                                            << " table texture.");
+      vtkErrorMacro("Could not create the "
+        << n << " x " << (volume ? nb : rows) << (volume ? " x " : "")
+        << (volume ? std::to_string(depth) : std::string()) << " table texture.");
       return false;
     }
   }
@@ -815,8 +815,8 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   // GLSL first.
   const bool shaded = !this->ShadingSwitches.empty();
   const std::string switches = std::string("#define HOVR_SKIP_EMPTY ") +
-    (this->SkipEmptySegments ? "1" : "0") + "\n#define HOVR_SHADED " + (shaded ? "1" : "0") +
-    "\n" + this->ShadingSwitches;
+    (this->SkipEmptySegments ? "1" : "0") + "\n#define HOVR_SHADED " + (shaded ? "1" : "0") + "\n" +
+    this->ShadingSwitches;
   // Shading calls computeRayDirection(): declared after it.
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
@@ -887,7 +887,8 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
   program->SetUniform3fv("hovr_lightSpecular", MaximumLights, specular);
   program->SetUniform1iv("hovr_lightIsHead", MaximumLights, head);
   const float lighting[4] = { static_cast<float>(model->GetAmbient()),
-    static_cast<float>(model->GetDiffuse()), static_cast<float>(model->GetSpecular()),
+    static_cast<float>(model->GetDiffuse()),
+    static_cast<float>(model->GetSpecular()),
     static_cast<float>(model->GetConeSlope()) };
   program->SetUniform4f("hovr_lighting", lighting);
   program->SetUniformf(

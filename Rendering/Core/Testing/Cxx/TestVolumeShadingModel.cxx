@@ -70,8 +70,9 @@ Vec Rotated(const Vec& v, const Vec& axis, double degrees)
 {
   const double c = std::cos(Rad(degrees)), s = std::sin(Rad(degrees));
   const Vec k = Normalized(axis);
-  const Vec cross = { k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2],
-    k[0] * v[1] - k[1] * v[0] };
+  const Vec cross = {
+    k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]
+  };
   const double kv = Dot(k, v);
   Vec out;
   for (int a = 0; a < 3; ++a)
@@ -84,7 +85,8 @@ Vec Rotated(const Vec& v, const Vec& axis, double degrees)
 // The unit vector at polar angle theta from +z and azimuth phi (degrees).
 Vec Polar(double theta, double phi)
 {
-  return { std::sin(Rad(theta)) * std::cos(Rad(phi)), std::sin(Rad(theta)) * std::sin(Rad(phi)),
+  return { std::sin(Rad(theta)) * std::cos(Rad(phi)),
+    std::sin(Rad(theta)) * std::sin(Rad(phi)),
     std::cos(Rad(theta)) };
 }
 
@@ -164,12 +166,14 @@ Segment MakeSegment(int steps,
 Segment GenericSegment(int steps = 400)
 {
   return MakeSegment(
-    steps, [](double u) { return 1.0 + u; },
-    [](double u) { return Vec{ 0.2 + 0.6 * u, 0.9 - 0.5 * u, 0.5 }; });
+    steps,
+    [](double u) { return 1.0 + u; },
+    [](double u) {
+      return Vec{ 0.2 + 0.6 * u, 0.9 - 0.5 * u, 0.5 };
+    });
 }
 
-vtkSmartPointer<Shading> Model(
-  double ka, double kd, double ks, double n, int mode, bool twoSided)
+vtkSmartPointer<Shading> Model(double ka, double kd, double ks, double n, int mode, bool twoSided)
 {
   auto model = vtkSmartPointer<Shading>::New();
   model->SetAmbient(ka);
@@ -181,8 +185,11 @@ vtkSmartPointer<Shading> Model(
   return model;
 }
 
-void AddLight(Shading* model, const Vec& toward, bool headlight = false,
-  const Vec& diffuse = { 1.0, 1.0, 1.0 }, const Vec& specular = { 1.0, 1.0, 1.0 })
+void AddLight(Shading* model,
+  const Vec& toward,
+  bool headlight = false,
+  const Vec& diffuse = { 1.0, 1.0, 1.0 },
+  const Vec& specular = { 1.0, 1.0, 1.0 })
 {
   model->AddLight(toward.data(), diffuse.data(), specular.data(), headlight);
 }
@@ -203,7 +210,10 @@ vtkSmartPointer<Shading> SpecularModel(int mode, bool twoSided, double n, const 
   return model;
 }
 
-Vec Shade(const Shading* model, const Segment& s, const Vec& front, const Vec& back,
+Vec Shade(const Shading* model,
+  const Segment& s,
+  const Vec& front,
+  const Vec& back,
   const Vec& view)
 {
   Vec rgb;
@@ -291,9 +301,11 @@ void TestEqualNormals()
       }
       worst = std::max({ worst, Largest(rgb[0], rgb[2]), Largest(rgb[1], rgb[2]) });
     }
-    check.Near(worst, 0.0, Rounding,
-      std::string("equal normals, random light and view, ") +
-        (twoSided ? "two" : "one") + "-sided: CONSTANT == LINEAR == NONLINEAR");
+    check.Near(worst,
+      0.0,
+      Rounding,
+      std::string("equal normals, random light and view, ") + (twoSided ? "two" : "one") +
+        "-sided: CONSTANT == LINEAR == NONLINEAR");
   }
 
   // The same, spelled out. Diffuse: max(N . L, 0) I0 one-sided (0 when N faces away),
@@ -309,7 +321,9 @@ void TestEqualNormals()
       for (int mode = 0; mode < 3; ++mode)
       {
         const Vec rgb = Shade(DiffuseModel(mode, twoSided, l), seg, n, n, Z);
-        check.Near(Largest(rgb, [&](int c) { return d * seg.I0(c); }), 0.0, Rounding,
+        check.Near(Largest(rgb, [&](int c) { return d * seg.I0(c); }),
+          0.0,
+          Rounding,
           std::string(ModeName[mode]) + " diffuse of equal normals at " + Str(angle) +
             " deg from a light " + (twoSided ? "(two" : "(one") +
             "-sided): max(N.L, 0) I0 one-sided, |N.L| I0 two-sided");
@@ -328,7 +342,9 @@ void TestEqualNormals()
       for (int mode = 0; mode < 3; ++mode)
       {
         const Vec rgb = Shade(SpecularModel(mode, twoSided, 10.0, l), seg, n, n, v);
-        check.Near(Largest(rgb, [&](int) { return expected; }), 0.0, Rounding,
+        check.Near(Largest(rgb, [&](int) { return expected; }),
+          0.0,
+          Rounding,
           std::string(ModeName[mode]) + " specular of equal normals 5 deg from H: cone(N.H) I'0");
       }
     }
@@ -428,7 +444,11 @@ void TestExactNormalisation()
   // 200000 midpoint steps: the moments and the exact integral share them, and their own
   // error against the continuous integral (~1e-11) is far below the 1% under test.
   const Segment seg = MakeSegment(
-    200000, [=](double) { return tau; }, [](double) { return Vec{ 1.0, 1.0, 1.0 }; });
+    200000,
+    [=](double) { return tau; },
+    [](double) {
+      return Vec{ 1.0, 1.0, 1.0 };
+    });
   auto nonlinear = Model(0.0, 1.0, 0.0, 10.0, Shading::NONLINEAR, true);
   auto linear = Model(0.0, 1.0, 0.0, 10.0, Shading::LINEAR, true);
   AddLight(nonlinear, Z, true);
@@ -447,7 +467,8 @@ void TestExactNormalisation()
         [&](double u, const Vec&)
         {
           const Vec n = Normalized(Vec{ (1.0 - u) * nf[0] + u * nb[0],
-            (1.0 - u) * nf[1] + u * nb[1], (1.0 - u) * nf[2] + u * nb[2] });
+            (1.0 - u) * nf[1] + u * nb[1],
+            (1.0 - u) * nf[2] + u * nb[2] });
           const double d = std::max(Dot(n, Z), 0.0);
           return Vec{ d, d, d };
         });
@@ -456,9 +477,9 @@ void TestExactNormalisation()
       const double li = Shade(linear, seg, nf, nb, Z)[0];
       std::cout << "  " << (config == 0 ? "symmetric  " : "front on V ") << std::fixed
                 << std::setprecision(0) << std::setw(8) << angle << std::setprecision(6)
-                << std::setw(10) << e << std::setw(11) << nl << std::setw(11) << li
-                << std::showpos << std::setprecision(3) << std::setw(11) << 100.0 * (nl - e) / e
-                << "%" << std::setw(11) << 100.0 * (li - e) / e << "%" << std::noshowpos
+                << std::setw(10) << e << std::setw(11) << nl << std::setw(11) << li << std::showpos
+                << std::setprecision(3) << std::setw(11) << 100.0 * (nl - e) / e << "%"
+                << std::setw(11) << 100.0 * (li - e) / e << "%" << std::noshowpos
                 << std::defaultfloat << "\n";
       const std::string where = std::string(config == 0 ? "symmetric" : "front-on-view") +
         " normals " + Str(angle) + " deg apart";
@@ -489,7 +510,9 @@ void TestAntiparallel()
     "antiparallel random normals: m = 4 (clamped)");
   model->SetMinimumCosHalfAngle(0.01);
   // 4 * 0.99 / 0.01 in double: a few ulps of 396.
-  check.Near(model->ArcCoefficient(x.data(), Negated(x).data()), 396.0, 1e-12,
+  check.Near(model->ArcCoefficient(x.data(), Negated(x).data()),
+    396.0,
+    1e-12,
     "antiparallel normals, MinimumCosHalfAngle 0.01: m = 396");
   model->SetMinimumCosHalfAngle(0.0);
   check(model->GetMinimumCosHalfAngle() == 0.01, "MinimumCosHalfAngle is clamped at 0.01");
@@ -537,12 +560,12 @@ void TestAntiparallel()
     m->SetMinimumCosHalfAngle(minimum);
     const double ca = std::max(std::cos(Rad(85.0)), minimum), arc = 4.0 * (1.0 - ca) / ca;
     const Vec rgb = Shade(m, seg, nf, nb, Polar(30.0, 90.0));
-    check.Near(Largest(rgb,
-                 [&](int c) {
-                   return f * seg.M[0][c] + b * seg.M[1][c] +
-                     arc * (f * seg.M[2][c] + b * seg.M[3][c]);
-                 }),
-      0.0, Rounding,
+    check.Near(
+      Largest(rgb,
+        [&](int c)
+        { return f * seg.M[0][c] + b * seg.M[1][c] + arc * (f * seg.M[2][c] + b * seg.M[3][c]); }),
+      0.0,
+      Rounding,
       "normals 170 deg apart facing the light, MinimumCosHalfAngle " + Str(minimum) +
         ": f J0 + b J1 + m (f J2 + b J3), m = " + Str(arc));
   }
@@ -564,19 +587,25 @@ void TestZeroNormals()
   {
     for (int mode : { Shading::LINEAR, Shading::NONLINEAR })
     {
-      const std::string where = std::string(ModeName[mode]) + (twoSided ? ", two" : ", one") +
-        "-sided";
+      const std::string where =
+        std::string(ModeName[mode]) + (twoSided ? ", two" : ", one") + "-sided";
       auto diffuse = DiffuseModel(mode, twoSided, Z);
       const double d = Dot(n, Z);
       check.Near(Largest(Shade(diffuse, seg, Zero, n, v), [&](int c) { return d * seg.M[1][c]; }),
-        0.0, Rounding, "zero front normal: b J1, " + where);
+        0.0,
+        Rounding,
+        "zero front normal: b J1, " + where);
       check.Near(Largest(Shade(diffuse, seg, n, Zero, v), [&](int c) { return d * seg.M[0][c]; }),
-        0.0, Rounding, "zero back normal: f J0, " + where);
+        0.0,
+        Rounding,
+        "zero back normal: f J0, " + where);
       if (twoSided)
       {
-        check.Near(Largest(Shade(diffuse, seg, Zero, Negated(n), v),
-                     [&](int c) { return d * seg.M[1][c]; }),
-          0.0, Rounding, "zero front normal, back facing away: |b| J1, " + where);
+        check.Near(
+          Largest(Shade(diffuse, seg, Zero, Negated(n), v), [&](int c) { return d * seg.M[1][c]; }),
+          0.0,
+          Rounding,
+          "zero front normal, back facing away: |b| J1, " + where);
       }
       // Specular: the back normal 3 deg from H inside the cone of n = 10, the front one zero.
       const Vec h = Normalized(Vec{ v[0], v[1], v[2] + 1.0 });
@@ -584,7 +613,9 @@ void TestZeroNormals()
       const double expected = Cone(Dot(nh, h), 10.0) * seg.M[1][3];
       check.Near(Largest(Shade(SpecularModel(mode, twoSided, 10.0, Z), seg, Zero, nh, v),
                    [&](int) { return expected; }),
-        0.0, Rounding, "zero front normal: cone(bh) J'1, " + where);
+        0.0,
+        Rounding,
+        "zero front normal: cone(bh) J'1, " + where);
     }
   }
   // Both ends zero: no diffuse, and the cone at N . H = 0 is 1 - n <= 0 for n >= 1.
@@ -619,21 +650,34 @@ void TestSignChange()
     const std::string name = ModeName[mode];
     auto one = DiffuseModel(mode, false, Z);
     auto two = DiffuseModel(mode, true, Z);
-    check.Near(Largest(Shade(one, seg, up, down, v), [&](int c) { return f * seg.M[0][c]; }), 0.0,
-      Rounding, name + " one-sided, back facing away: f J0 (case 2)");
-    check.Near(Largest(Shade(one, seg, down, up, v), [&](int c) { return f * seg.M[1][c]; }), 0.0,
-      Rounding, name + " one-sided, front facing away: b J1 (case 2)");
-    check.Near(Largest(Shade(one, seg, down, Negated(up), v), [](int) { return 0.0; }), 0.0, 0.0,
+    check.Near(Largest(Shade(one, seg, up, down, v), [&](int c) { return f * seg.M[0][c]; }),
+      0.0,
+      Rounding,
+      name + " one-sided, back facing away: f J0 (case 2)");
+    check.Near(Largest(Shade(one, seg, down, up, v), [&](int c) { return f * seg.M[1][c]; }),
+      0.0,
+      Rounding,
+      name + " one-sided, front facing away: b J1 (case 2)");
+    check.Near(Largest(Shade(one, seg, down, Negated(up), v), [](int) { return 0.0; }),
+      0.0,
+      0.0,
       name + " one-sided, both facing away: 0 (case 3)");
     check.Near(Largest(Shade(two, seg, up, down, v),
                  [&](int c) { return f * seg.M[0][c] + std::abs(b) * seg.M[1][c]; }),
-      0.0, Rounding, name + " two-sided, sign change: |f| J0 + |b| J1");
+      0.0,
+      Rounding,
+      name + " two-sided, sign change: |f| J0 + |b| J1");
     check.Near(Largest(Shade(two, seg, down, up, v),
                  [&](int c) { return std::abs(b) * seg.M[0][c] + f * seg.M[1][c]; }),
-      0.0, Rounding, name + " two-sided, sign change (reversed): |f| J0 + |b| J1");
+      0.0,
+      Rounding,
+      name + " two-sided, sign change (reversed): |f| J0 + |b| J1");
     // Both facing away, two-sided: lit as the mirrored pair, with the arc between them.
-    check.Near(Largest(Shade(two, seg, Negated(up), down, v), Shade(two, seg, up, Negated(down), v)),
-      0.0, Rounding, name + " two-sided, both facing away: as both mirrored");
+    check.Near(
+      Largest(Shade(two, seg, Negated(up), down, v), Shade(two, seg, up, Negated(down), v)),
+      0.0,
+      Rounding,
+      name + " two-sided, both facing away: as both mirrored");
   }
   {
     auto two = DiffuseModel(Shading::NONLINEAR, true, Z);
@@ -642,11 +686,14 @@ void TestSignChange()
     const double m = arc->ArcCoefficient(nf.data(), nb.data());
     check(m > 0.1, "the both-away fixture has an arc");
     check.Near(Largest(Shade(two, seg, nf, nb, v),
-                 [&](int c) {
+                 [&](int c)
+                 {
                    return -Dot(nf, Z) * seg.M[0][c] - Dot(nb, Z) * seg.M[1][c] +
                      m * (-Dot(nf, Z) * seg.M[2][c] - Dot(nb, Z) * seg.M[3][c]);
                  }),
-      0.0, Rounding, "NONLINEAR two-sided, both facing away: |f| J0 + |b| J1 + m (|f| J2 + |b| J3)");
+      0.0,
+      Rounding,
+      "NONLINEAR two-sided, both facing away: |f| J0 + |b| J1 + m (|f| J2 + |b| J3)");
   }
   // Specular: N . H from +0.9986 to -0.9986 (n = 10, threshold 0.9).
   {
@@ -656,13 +703,16 @@ void TestSignChange()
     const double fh = Dot(nf, h), bh = Dot(nb, h);
     auto one = SpecularModel(Shading::NONLINEAR, false, 10.0, Z);
     auto two = SpecularModel(Shading::NONLINEAR, true, 10.0, Z);
-    check.Near(Largest(Shade(one, seg, nf, nb, v), [&](int) { return Cone(fh, 10.0) * seg.M[0][3]; }),
-      0.0, Rounding, "specular one-sided, N . H changes sign: cone(fh) J'0");
+    check.Near(
+      Largest(Shade(one, seg, nf, nb, v), [&](int) { return Cone(fh, 10.0) * seg.M[0][3]; }),
+      0.0,
+      Rounding,
+      "specular one-sided, N . H changes sign: cone(fh) J'0");
     check.Near(Largest(Shade(two, seg, nf, nb, v),
-                 [&](int) {
-                   return Cone(fh, 10.0) * seg.M[0][3] + Cone(-bh, 10.0) * seg.M[1][3];
-                 }),
-      0.0, Rounding, "specular two-sided, N . H changes sign: cone(|fh|) J'0 + cone(|bh|) J'1");
+                 [&](int) { return Cone(fh, 10.0) * seg.M[0][3] + Cone(-bh, 10.0) * seg.M[1][3]; }),
+      0.0,
+      Rounding,
+      "specular two-sided, N . H changes sign: cone(|fh|) J'0 + cone(|bh|) J'1");
   }
 }
 
@@ -685,18 +735,19 @@ void TestHighlightBetweenSamples()
     for (int i = 0; i <= count; ++i)
     {
       const double u = static_cast<double>(i) / count;
-      best = std::max(best,
-        fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u)));
+      best = std::max(
+        best, fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u)));
     }
     return best;
   };
   const Vec y = { 0.0, 1.0, 0.0 };
-  for (const auto& angles : { std::array<double, 2>{ 15.0, -15.0 }, std::array<double, 2>{ 12.0, -20.0 } })
+  for (const auto& angles :
+    { std::array<double, 2>{ 15.0, -15.0 }, std::array<double, 2>{ 12.0, -20.0 } })
   {
     const Vec nf = Rotated(Z, y, angles[0]), nb = Rotated(Z, y, angles[1]);
     const double fh = Dot(nf, Z), bh = Dot(nb, Z);
-    const std::string where = "normals at " + Str(angles[0]) + " and " + Str(angles[1]) +
-      " deg around H, n = 50";
+    const std::string where =
+      "normals at " + Str(angles[0]) + " and " + Str(angles[1]) + " deg around H, n = 50";
     check(fh < threshold && bh < threshold, "both ends outside the cone: " + where);
     const double m = model->ArcCoefficient(nf.data(), nb.data());
     double value = 0.0;
@@ -708,7 +759,9 @@ void TestHighlightBetweenSamples()
     const Vec rgb = Shade(model, seg, nf, nb, Z);
     check(rgb[0] > 0.0, "highlight between the samples: specular > 0, " + where);
     // n times the grid's error on the peak, plus rounding.
-    check.Near(Largest(rgb, [&](int) { return expected; }), 0.0, 1e-9,
+    check.Near(Largest(rgb, [&](int) { return expected; }),
+      0.0,
+      1e-9,
       "specular == cone(peak) I'' (tent), " + where);
   }
   // Symmetric ends: the peak is p(1/2) = fh + m fh / 4 exactly.
@@ -720,12 +773,16 @@ void TestHighlightBetweenSamples()
   }
   // A local maximum and a local minimum both inside (0, 1) (u ~ 0.14 and 0.97 for fh = 0.97,
   // bh = -0.5, m = 4, and mirrored): the maximum is the one wanted.
-  for (const auto& ends : { std::array<double, 2>{ 0.97, -0.5 }, std::array<double, 2>{ -0.5, 0.97 } })
+  for (const auto& ends :
+    { std::array<double, 2>{ 0.97, -0.5 }, std::array<double, 2>{ -0.5, 0.97 } })
   {
     double value = 0.0;
     const bool found = Shading::InteriorMaximum(ends[0], ends[1], 4.0, value);
-    check(found && value > 0.97, "two interior critical points: an interior maximum above the ends");
-    check.Near(value, peak(ends[0], ends[1], 4.0), 1e-11,
+    check(
+      found && value > 0.97, "two interior critical points: an interior maximum above the ends");
+    check.Near(value,
+      peak(ends[0], ends[1], 4.0),
+      1e-11,
       "two interior critical points: the maximum, not the minimum");
   }
   // No arc: p is linear, no interior critical point.
@@ -762,8 +819,8 @@ void TestShininess()
         {
           for (double b : { 0.0, 3.0, -5.0, 60.0 })
           {
-            finite = finite &&
-              Finite(Shade(m, seg, Polar(a, 0.0), Polar(b, 90.0), Polar(10.0, 45.0)));
+            finite =
+              finite && Finite(Shade(m, seg, Polar(a, 0.0), Polar(b, 90.0), Polar(10.0, 45.0)));
           }
         }
       }
@@ -775,9 +832,11 @@ void TestShininess()
   {
     auto m = SpecularModel(Shading::NONLINEAR, false, 1.0, Z);
     const double expected = Dot(Polar(60.0, 0.0), Z) * (seg.M[0][3] + seg.M[1][3]);
-    check.Near(Largest(Shade(m, seg, Polar(60.0, 0.0), Polar(60.0, 0.0), Z),
-                 [&](int) { return expected; }),
-      0.0, Rounding, "n = 1: the cone is N . H");
+    check.Near(
+      Largest(Shade(m, seg, Polar(60.0, 0.0), Polar(60.0, 0.0), Z), [&](int) { return expected; }),
+      0.0,
+      Rounding,
+      "n = 1: the cone is N . H");
   }
   // n = 1000, headlight (H = V = z), equal normals.
   auto m = SpecularModel(Shading::NONLINEAR, true, 1000.0, Z);
@@ -825,14 +884,16 @@ void TestSeveralLights()
         const Vec all = Shade(both, seg, normals[0], normals[1], v);
         const Vec a = Shade(first, seg, normals[0], normals[1], v);
         const Vec b = Shade(second, seg, normals[0], normals[1], v);
-        worst = std::max(worst,
-          Largest(all, [&](int c) { return a[c] + b[c] - 0.15 * seg.I0(c); }));
+        worst =
+          std::max(worst, Largest(all, [&](int c) { return a[c] + b[c] - 0.15 * seg.I0(c); }));
         const Vec p = ShadePoint(both, normals[0], v, c1);
         const Vec pa = ShadePoint(first, normals[0], v, c1);
         const Vec pb = ShadePoint(second, normals[0], v, c1);
         worst = std::max(worst, Largest(p, [&](int c) { return pa[c] + pb[c] - 0.15 * c1[c]; }));
       }
-      check.Near(worst, 0.0, Rounding,
+      check.Near(worst,
+        0.0,
+        Rounding,
         std::string(ModeName[mode]) + (twoSided ? ", two" : ", one") +
           "-sided: two lights == the sum of single lights minus one ambient");
     }
@@ -893,7 +954,9 @@ void TestGooch()
     }
   }
   // Sums of 400 steps of O(1) values.
-  check.Near(worst, 0.0, Rounding,
+  check.Near(worst,
+    0.0,
+    Rounding,
     "Gooch, equal normals (N . L of both signs): segment == integral of ShadePoint");
 
   // The point formula: 1/2 (cool + a Kd c)(1 + N.L) + 1/2 (warm + b Kd c)(1 - N.L).
@@ -904,18 +967,22 @@ void TestGooch()
     const Vec rgb = ShadePoint(m, n, v, c);
     const double cool[3] = { 0.0, 0.0, 0.4 }, warm[3] = { 0.4, 0.4, 0.0 };
     check.Near(Largest(rgb,
-                 [&](int k) {
+                 [&](int k)
+                 {
                    return 0.5 * (cool[k] + 0.2 * 0.7 * c[k]) * (1 + nl) +
                      0.5 * (warm[k] + 0.6 * 0.7 * c[k]) * (1 - nl);
                  }),
-      0.0, Rounding, "Gooch ShadePoint: Eq. 11 with the default tones and weights");
+      0.0,
+      Rounding,
+      "Gooch ShadePoint: Eq. 11 with the default tones and weights");
   }
   // N . L changing sign with the arc: no cases, P = f J0 + b J1 + m (f J2 + b J3), negative
   // parts included, one- and two-sided alike.
   for (bool twoSided : { false, true })
   {
     auto m = make(Shading::NONLINEAR, twoSided, false);
-    const Vec nf = Rotated(l, Vec{ 0.0, 1.0, 0.0 }, 30.0), nb = Rotated(l, Vec{ 1.0, 0.0, 0.0 }, 150.0);
+    const Vec nf = Rotated(l, Vec{ 0.0, 1.0, 0.0 }, 30.0),
+              nb = Rotated(l, Vec{ 1.0, 0.0, 0.0 }, 150.0);
     const double f = Dot(nf, LightDirection(m, 0)), b = Dot(nb, LightDirection(m, 0));
     check(f > 0.0 && b < 0.0, "the Gooch sign-change fixture");
     const double arc = m->ArcCoefficient(nf.data(), nb.data());
@@ -923,12 +990,14 @@ void TestGooch()
     { return f * seg.M[0][c] + b * seg.M[1][c] + arc * (f * seg.M[2][c] + b * seg.M[3][c]); };
     const double cool[3] = { 0.0, 0.0, 0.4 }, warm[3] = { 0.4, 0.4, 0.0 };
     check.Near(Largest(Shade(m, seg, nf, nb, v),
-                 [&](int c) {
+                 [&](int c)
+                 {
                    return 0.5 * (cool[c] + warm[c]) * (seg.M[0][3] + seg.M[1][3]) +
                      0.5 * 0.7 * (0.2 + 0.6) * seg.I0(c) + 0.5 * (cool[c] - warm[c]) * P(3) +
                      0.5 * 0.7 * (0.2 - 0.6) * P(c);
                  }),
-      0.0, Rounding,
+      0.0,
+      Rounding,
       std::string("Gooch, N . L changing sign (") + (twoSided ? "two" : "one") +
         "-sided): no cases, the non-linear profile with its negative part");
   }
@@ -972,12 +1041,14 @@ void TestShadePoint()
                                                      : std::max(1.0 + n * (nh - 1.0), 0.0);
           const Vec rgb = ShadePoint(m, nn, v, c);
           worst = std::max(worst,
-            Largest(rgb,
-              [&](int k) { return ka * c[k] + (kd * std::max(nl, 0.0) * c[k] + ks * spec); }));
+            Largest(
+              rgb, [&](int k) { return ka * c[k] + (kd * std::max(nl, 0.0) * c[k] + ks * spec); }));
         }
       }
       // The class' own operations in the same order: exact.
-      check.Near(worst, 0.0, 0.0,
+      check.Near(worst,
+        0.0,
+        0.0,
         std::string(model == Shading::LOBE ? "LOBE" : "CONE") + (twoSided ? " two" : " one") +
           "-sided ShadePoint: Ka c + Kd c max(N.L, 0) + Ks spec(N.H), exactly");
       const Vec ambient = ShadePoint(m, Zero, v, c);
@@ -990,8 +1061,10 @@ void TestShadePoint()
   m->SetSpecularModel(Shading::CONE);
   AddLight(m, Z, true);
   check.Near(ShadePoint(m, Z, Z, c)[0], 1.0, 0.0, "cone at N = H: 1");
-  check.Near(ShadePoint(m, Polar(std::acos(1.0 - 1.0 / n) * 180.0 / Pi, 0.0), Z, c)[0], 0.0,
-    Rounding * n, "cone at its edge acos(1 - 1/n): 0");
+  check.Near(ShadePoint(m, Polar(std::acos(1.0 - 1.0 / n) * 180.0 / Pi, 0.0), Z, c)[0],
+    0.0,
+    Rounding * n,
+    "cone at its edge acos(1 - 1/n): 0");
   check(ShadePoint(m, Polar(30.0, 0.0), Z, c)[0] == 0.0, "cone outside its edge: 0");
   // No lights: ambient only.
   auto dark = Model(0.25, 0.7, 0.3, 10.0, Shading::NONLINEAR, true);
@@ -1028,9 +1101,13 @@ void TestTransformLights()
   bool headlight = false;
   const Vec t1 = LightDirection(model, 0), t2 = LightDirection(model, 1, &headlight);
   // A 4x4 inverse and a normalisation of unit vectors: a few ulps.
-  check.Near(Largest(t1, Rotated(d1, axis, -40.0)), 0.0, Rounding,
+  check.Near(Largest(t1, Rotated(d1, axis, -40.0)),
+    0.0,
+    Rounding,
     "rotated volume: light direction rotated back");
-  check.Near(Largest(t2, Rotated(d2, axis, -40.0)), 0.0, Rounding,
+  check.Near(Largest(t2, Rotated(d2, axis, -40.0)),
+    0.0,
+    Rounding,
     "rotated volume: second light rotated back");
   check(headlight, "the headlight flag survives the transformation");
   // A non-uniform scale: M^-1 d, normalised.
@@ -1041,7 +1118,9 @@ void TestTransformLights()
   check(model->TransformLights(scale), "a scale is invertible");
   check.Near(Largest(LightDirection(model, 0),
                Normalized(Vec{ before[0] / 2.0, before[1], before[2] * 2.0 })),
-    0.0, Rounding, "scaled volume: the direction by the inverse scale, normalised");
+    0.0,
+    Rounding,
+    "scaled volume: the direction by the inverse scale, normalised");
   // Singular: false, the lights unchanged.
   const Vec kept = LightDirection(model, 0);
   vtkNew<vtkMatrix4x4> flat;
@@ -1109,11 +1188,17 @@ void TestLightsFromRenderer()
     camera->GetDirectionOfProjection(dop.data());
     // Camera (0, 0, 1) is the camera's position, (0, 0, 0) its focal point: the light shines
     // against the direction of projection; a 4x4 transform of two points, then normalised.
-    check.Near(Largest(d, Negated(dop)), 0.0, Rounding,
+    check.Near(Largest(d, Negated(dop)),
+      0.0,
+      Rounding,
       "camera light at (0, 0, 1): direction == -direction of projection");
-    check.Near(Largest(diffuse, Vec{ 0.5, 0.25, 0.125 }), 0.0, 0.0,
+    check.Near(Largest(diffuse, Vec{ 0.5, 0.25, 0.125 }),
+      0.0,
+      0.0,
       "camera light diffuse colour times intensity");
-    check.Near(Largest(specular, Vec{ 0.1, 0.2, 0.4 }), 0.0, 1e-16,
+    check.Near(Largest(specular, Vec{ 0.1, 0.2, 0.4 }),
+      0.0,
+      1e-16,
       "camera light specular colour times intensity");
   }
   renderer->TwoSidedLightingOn();
@@ -1220,8 +1305,17 @@ void TestMomentTables()
   double worst = 0.0, worstTentSpare = 0.0;
   // Chord 0 (j = 4), and chords with their mirrors (j, 8 - j), near both ends of the range
   // (clamped paths) and inside.
-  const int entries[][2] = { { 16, 4 }, { 0, 4 }, { 32, 4 }, { 10, 0 }, { 10, 8 }, { 20, 2 },
-    { 20, 6 }, { 3, 1 }, { 3, 7 }, { 30, 3 }, { 30, 5 } };
+  const int entries[][2] = { { 16, 4 },
+    { 0, 4 },
+    { 32, 4 },
+    { 10, 0 },
+    { 10, 8 },
+    { 20, 2 },
+    { 20, 6 },
+    { 3, 1 },
+    { 3, 7 },
+    { 30, 3 },
+    { 30, 5 } };
   std::cout << "Moment layers against the double-precision path integral (largest |difference| "
                "over the channels):\n";
   for (const auto& e : entries)
@@ -1239,7 +1333,8 @@ void TestMomentTables()
       }
       if (l == 4)
       {
-        worstTentSpare = std::max({ worstTentSpare, std::abs(v[1]), std::abs(v[2]), std::abs(v[3]) });
+        worstTentSpare =
+          std::max({ worstTentSpare, std::abs(v[1]), std::abs(v[2]), std::abs(v[3]) });
       }
     }
     std::cout << "  centre " << e[0] << ", chord " << e[1] << ": " << entryWorst

@@ -1,9 +1,9 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 // Proves that vtkPreIntegrationVolumeMapper handles bad and unusual input as documented:
 // shading is pre-integrated by first order and falls back for second order and positional
-// lights; a sample distance <= 0, a non-positive opacity unit distance, a 1-voxel-thick volume and an
-// empty image report an error and draw nothing (no crash); multi-component scalars warn and
-// draw exactly VTK's stock image; grey colour functions and disabled gradient opacity are
+// lights; a sample distance <= 0, a non-positive opacity unit distance, a 1-voxel-thick volume and
+// an empty image report an error and draw nothing (no crash); multi-component scalars warn and draw
+// exactly VTK's stock image; grey colour functions and disabled gradient opacity are
 // pre-integrated; NaN scalars give no NaN or infinity in the image and the
 // rest of the volume is still drawn as the reference integrator draws it; and every scalar
 // type VTK uploads differently (8/16-bit normalised integers, signed and unsigned, 32-bit
