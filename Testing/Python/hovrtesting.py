@@ -211,3 +211,48 @@ def cast_image(scene, table, order, step, exact=False):
     caster.SetSampleDistance(scene.step_length(step))
     caster.Update()
     return caster.GetOutput()
+
+
+def pixel_rays(camera, width, height):
+    """The pixel rays of a vtkCamera as docs/cli.md defines them, in numpy (no hovr code):
+    origins and unit directions, one row per pixel, x fastest."""
+    import math
+    import numpy
+    position = numpy.array(camera.GetPosition())
+    forward = numpy.array(camera.GetFocalPoint()) - position
+    forward /= numpy.linalg.norm(forward)
+    right = numpy.cross(forward, camera.GetViewUp())
+    right /= numpy.linalg.norm(right)
+    up = numpy.cross(right, forward)
+    i, j = numpy.meshgrid(numpy.arange(width), numpy.arange(height))
+    x = (2.0 * (i + 0.5) / width - 1.0).ravel()[:, None]
+    y = (2.0 * (j + 0.5) / height - 1.0).ravel()[:, None]
+    aspect = width / height
+    if camera.GetParallelProjection():
+        scale = camera.GetParallelScale()
+        origins = position + x * scale * aspect * right + y * scale * up
+        directions = numpy.repeat(forward[None, :], len(x), axis=0)
+    else:
+        t = math.tan(math.radians(camera.GetViewAngle()) / 2.0)
+        origins = numpy.repeat(position[None, :], len(x), axis=0)
+        directions = forward + x * t * aspect * right + y * t * up
+        directions /= numpy.linalg.norm(directions, axis=1)[:, None]
+    return origins, directions
+
+
+def trilinear(values, p):
+    """Trilinear interpolation of values[k, j, i] (or values[k, j, i, :]) at the index-space
+    points p (n x 3), in numpy."""
+    import numpy
+    nz, ny, nx = values.shape[:3]
+    cell = numpy.clip(numpy.floor(p).astype(int), 0, [nx - 2, ny - 2, nz - 2])
+    f = p - cell
+    out = 0.0
+    for dz in (0, 1):
+        for dy in (0, 1):
+            for dx in (0, 1):
+                w = ((f[:, 0] if dx else 1 - f[:, 0]) * (f[:, 1] if dy else 1 - f[:, 1]) *
+                     (f[:, 2] if dz else 1 - f[:, 2]))
+                v = values[cell[:, 2] + dz, cell[:, 1] + dy, cell[:, 0] + dx]
+                out = out + (w[:, None] * v if v.ndim > 1 else w * v)
+    return out

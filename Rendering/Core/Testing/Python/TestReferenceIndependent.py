@@ -21,51 +21,11 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, shared_volume, tf_path
+from hovrtesting import Checker, pixel_rays, shared_volume, tf_path, trilinear
 
 c = Checker()
 SIZE = (28, 24)
 FINE = 1.0 / 128.0  # independent step, in voxels
-
-
-def pixel_rays(camera, width, height):
-    position = numpy.array(camera.GetPosition())
-    forward = numpy.array(camera.GetFocalPoint()) - position
-    forward /= numpy.linalg.norm(forward)
-    right = numpy.cross(forward, camera.GetViewUp())
-    right /= numpy.linalg.norm(right)
-    up = numpy.cross(right, forward)
-    i, j = numpy.meshgrid(numpy.arange(width), numpy.arange(height))
-    x = (2.0 * (i + 0.5) / width - 1.0).ravel()[:, None]
-    y = (2.0 * (j + 0.5) / height - 1.0).ravel()[:, None]
-    aspect = width / height
-    if camera.GetParallelProjection():
-        scale = camera.GetParallelScale()
-        origins = position + x * scale * aspect * right + y * scale * up
-        directions = numpy.repeat(forward[None, :], len(x), axis=0)
-    else:
-        t = math.tan(math.radians(camera.GetViewAngle()) / 2.0)
-        origins = numpy.repeat(position[None, :], len(x), axis=0)
-        directions = forward + x * t * aspect * right + y * t * up
-        directions /= numpy.linalg.norm(directions, axis=1)[:, None]
-    return origins, directions
-
-
-def trilinear(values, p):
-    """Trilinear interpolation of values[k, j, i] at the index-space points p (n x 3)."""
-    nz, ny, nx = values.shape
-    cell = numpy.clip(numpy.floor(p).astype(int), 0, [nx - 2, ny - 2, nz - 2])
-    f = p - cell
-    fx, fy, fz = f[:, 0], f[:, 1], f[:, 2]
-    i, j, k = cell[:, 0], cell[:, 1], cell[:, 2]
-    return (values[k, j, i] * (1 - fx) * (1 - fy) * (1 - fz)
-            + values[k, j, i + 1] * fx * (1 - fy) * (1 - fz)
-            + values[k, j + 1, i] * (1 - fx) * fy * (1 - fz)
-            + values[k, j + 1, i + 1] * fx * fy * (1 - fz)
-            + values[k + 1, j, i] * (1 - fx) * (1 - fy) * fz
-            + values[k + 1, j, i + 1] * fx * (1 - fy) * fz
-            + values[k + 1, j + 1, i] * (1 - fx) * fy * fz
-            + values[k + 1, j + 1, i + 1] * fx * fy * fz)
 
 
 def clip_rays(image, camera, width, height):

@@ -18,45 +18,14 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, marschner_lobb_scene, shared_volume, tf_path
+from hovrtesting import (Checker, marschner_lobb_scene, pixel_rays, shared_volume, tf_path,
+                         trilinear)
 
 c = Checker()
 SIZE = (24, 20)
 FINE = 1.0 / 64.0
 KA, KD, KS, POWER = 0.1, 0.6, 0.3, 20.0
 COOL, WARM, GA, GB = numpy.array([0, 0, 0.4]), numpy.array([0.4, 0.4, 0]), 0.2, 0.6
-
-
-def pixel_rays(camera, width, height):
-    position = numpy.array(camera.GetPosition())
-    forward = numpy.array(camera.GetFocalPoint()) - position
-    forward /= numpy.linalg.norm(forward)
-    right = numpy.cross(forward, camera.GetViewUp())
-    right /= numpy.linalg.norm(right)
-    up = numpy.cross(right, forward)
-    i, j = numpy.meshgrid(numpy.arange(width), numpy.arange(height))
-    x = (2.0 * (i + 0.5) / width - 1.0).ravel()[:, None]
-    y = (2.0 * (j + 0.5) / height - 1.0).ravel()[:, None]
-    t = math.tan(math.radians(camera.GetViewAngle()) / 2.0)
-    directions = forward + x * t * (width / height) * right + y * t * up
-    directions /= numpy.linalg.norm(directions, axis=1)[:, None]
-    return numpy.repeat(position[None, :], len(x), axis=0), directions
-
-
-def trilinear(values, p):
-    """Trilinear interpolation of values[k, j, i, ...] at index-space points p (n x 3)."""
-    nz, ny, nx = values.shape[:3]
-    cell = numpy.clip(numpy.floor(p).astype(int), 0, [nx - 2, ny - 2, nz - 2])
-    f = p - cell
-    out = 0.0
-    for dz in (0, 1):
-        for dy in (0, 1):
-            for dx in (0, 1):
-                w = ((f[:, 0] if dx else 1 - f[:, 0]) * (f[:, 1] if dy else 1 - f[:, 1]) *
-                     (f[:, 2] if dz else 1 - f[:, 2]))
-                v = values[cell[:, 2] + dz, cell[:, 1] + dy, cell[:, 0] + dx]
-                out = out + (w[:, None] * v if v.ndim > 1 else w * v)
-    return out
 
 
 def point_gradients(values, spacing):
