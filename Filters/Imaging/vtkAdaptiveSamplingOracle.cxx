@@ -6,6 +6,7 @@
 #include "vtkDataArrayRange.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkImagingInputCheck.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -1070,57 +1071,22 @@ int vtkAdaptiveSamplingOracle::RequestData(vtkInformation*,
   // Input.
   int association = -1;
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector, association);
+  std::string problem;
+  if (!vtkImagingInputCheck::Check(input,
+        scalars,
+        association,
+        this->OutputArrayName,
+        "the oracle needs values at the grid's points",
+        "the distances",
+        problem))
+  {
+    vtkErrorMacro(<< problem);
+    return 1;
+  }
   int dims[3];
   input->GetDimensions(dims);
   const vtkIdType points = input->GetNumberOfPoints();
-  if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || points == 0)
-  {
-    vtkErrorMacro("The input image is empty (" << dims[0] << " x " << dims[1] << " x " << dims[2]
-                                               << " points).");
-    return 1;
-  }
-  if (!scalars)
-  {
-    vtkErrorMacro("The input has no point array to process (no point scalars, or the selected "
-                  "array does not exist).");
-    return 1;
-  }
-  const char* name = scalars->GetName() ? scalars->GetName() : "";
-  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
-  {
-    vtkErrorMacro("The array '" << name << "' is not a point array; the oracle needs values at "
-                                << "the grid's points.");
-    return 1;
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    vtkErrorMacro("The array '" << name << "' has " << scalars->GetNumberOfComponents()
-                                << " components; the opacity function takes a single one.");
-    return 1;
-  }
-  if (scalars->GetNumberOfTuples() != points)
-  {
-    vtkErrorMacro("The array '" << name << "' has " << scalars->GetNumberOfTuples()
-                                << " values for the " << points << " points of the grid.");
-    return 1;
-  }
-  if (std::strcmp(name, this->OutputArrayName) == 0)
-  {
-    vtkErrorMacro("OutputArrayName '" << name
-                                      << "' is the input array's name; the distances would "
-                                         "replace the scalars they are computed from.");
-    return 1;
-  }
   const double* spacing = input->GetSpacing();
-  for (int a = 0; a < 3; ++a)
-  {
-    if (!std::isfinite(spacing[a]) || spacing[a] == 0.0)
-    {
-      vtkErrorMacro("The spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-                                    << ") must be finite and non-zero on every axis.");
-      return 1;
-    }
-  }
   DistanceSetup setup;
   std::copy(dims, dims + 3, setup.G.Dims);
   const double smallest =

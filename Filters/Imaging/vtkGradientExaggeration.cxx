@@ -6,6 +6,7 @@
 #include "vtkDataArrayRange.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkImagingInputCheck.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -532,59 +533,24 @@ int vtkGradientExaggeration::RequestData(vtkInformation*,
   // Input.
   int association = -1;
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector, association);
+  std::string problem;
+  if (!vtkImagingInputCheck::Check(input,
+        scalars,
+        association,
+        this->OutputArrayName,
+        "gradients need values at the grid's points",
+        "the normals",
+        problem))
+  {
+    vtkErrorMacro(<< problem);
+    return 1;
+  }
   int dims[3];
   input->GetDimensions(dims);
   const vtkIdType points = input->GetNumberOfPoints();
-  if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || points == 0)
-  {
-    vtkErrorMacro("The input image is empty (" << dims[0] << " x " << dims[1] << " x " << dims[2]
-                                               << " points).");
-    return 1;
-  }
-  if (!scalars)
-  {
-    vtkErrorMacro("The input has no point array to process (no point scalars, or the selected "
-                  "array does not exist).");
-    return 1;
-  }
-  const char* name = scalars->GetName() ? scalars->GetName() : "";
-  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
-  {
-    vtkErrorMacro("The array '" << name << "' is not a point array; gradients need values at "
-                                << "the grid's points.");
-    return 1;
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    vtkErrorMacro("The array '" << name << "' has " << scalars->GetNumberOfComponents()
-                                << " components; the gradient needs a single component.");
-    return 1;
-  }
-  if (scalars->GetNumberOfTuples() != points)
-  {
-    vtkErrorMacro("The array '" << name << "' has " << scalars->GetNumberOfTuples()
-                                << " values for the " << points << " points of the grid.");
-    return 1;
-  }
-  if (std::strcmp(name, this->OutputArrayName) == 0)
-  {
-    vtkErrorMacro("OutputArrayName '" << name
-                                      << "' is the input array's name; the normals would "
-                                         "replace the scalars they are computed from.");
-    return 1;
-  }
   const double* spacing = input->GetSpacing();
-  double smallest = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a)
-  {
-    if (!std::isfinite(spacing[a]) || spacing[a] == 0.0)
-    {
-      vtkErrorMacro("The spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-                                    << ") must be finite and non-zero on every axis.");
-      return 1;
-    }
-    smallest = std::min(smallest, std::abs(spacing[a]));
-  }
+  const double smallest =
+    std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
   // An impossible size is an error and an empty output, not an allocation that overcommits
   // and is killed when written.
   vtksys::SystemInformation system;
