@@ -239,7 +239,7 @@ struct Grid
   vtkIdType Points() const { return this->Rows() * this->Dims[0]; }
 };
 
-// The OPACITY_RANGE feature test (the design note's robust variant, beyond the paper's test:
+// The OPACITY_RANGE feature test (beyond the paper's test:
 // it sees a transfer-function spike between two voxel values) of one point, from the least
 // and greatest scalar of its neighbourhood and whether that holds a NaN. An interval without
 // width has no opacity change; neither has an empty one (every neighbour NaN).

@@ -3,8 +3,8 @@
  * @class   vtkAdaptiveSamplingOracle
  * @brief   distance to the nearest change of opacity, for adaptive sampling of a volume
  *
- * The oracle volume of "Adaptive Sampling in Three Dimensions for Volume Rendering on GPUs"
- * (shared/papers/adaptive-sampling-3d.txt): an oracle returns a preferred sampling distance d
+ * The oracle volume of "Adaptive Sampling in Three Dimensions for Volume Rendering on GPUs":
+ * an oracle returns a preferred sampling distance d
  * for any point (line 49), and the renderer skips the samples closer than d. The paper's own
  * oracle is "pre-computed and stored with the data set" and "estimates the distance to the
  * nearest voxel that features a gradient magnitude of the opacity greater than some

@@ -4,7 +4,7 @@
  * @brief   unit normals of a scalar volume with their deviation from the local mean exaggerated
  *
  * Exaggerated shading as used by Guetat et al. 2010 ("Pre-integrated volume rendering with
- * non-linear gradient interpolation", line 99 of the paper's text in shared/papers): each
+ * non-linear gradient interpolation", section 4, line 99 of its text): each
  * voxel's normal N is replaced by
  *
  *   N' = N + eps (N - N_m),

@@ -44,8 +44,7 @@
  *     vtkVolumeShadingModel::ShadeSegment() with the model's GradientInterpolation; opacity
  *     J'_0 + J'_1; a partial segment scaled as an unshaded one. This is the CPU mirror of the
  *     GLSL: its image is the mapper's up to the GPU's float rounding;
- *   - exactly (ExactSegments on; R2, the segment-model reference of the design note
- *     shading-and-adaptive-sampling.md, A.13): the scalar linear across the segment, the
+ *   - exactly (ExactSegments on; the segment-model reference): the scalar linear across the segment, the
  *     normal nlerp(front, back, u) normalised exactly (zero where it vanishes), ShadedSubsteps
  *     midpoint steps per segment (more where the transfer function needs finer ones, as the
  *     unshaded exact path takes them), each lit by vtkVolumeShadingModel::ShadePoint() (with

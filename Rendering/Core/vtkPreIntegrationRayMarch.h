@@ -434,7 +434,7 @@ public:
     }
   };
 
-  // Shaded first-order segments integrated along the segment model (R2 of the design note):
+  // Shaded first-order segments integrated along the segment model (the segment-model reference):
   // the scalar linear from front to back, the normal nlerp(nf, nb, u) exactly normalised (zero
   // where it vanishes), lit point by point by the model's ShadePoint(); Substeps midpoint steps
   // per segment, more where the transfer function needs them (ExactPieces' rule), each
