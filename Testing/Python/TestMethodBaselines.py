@@ -4,7 +4,9 @@ baseline PNG (Testing/Data/Baseline/MethodBaseline_<method>.png). Isosurface met
 the shaded isosurface 0.5 with the iso-opaque transfer function, projections the spike one;
 the reference is drawn in every blend mode (MethodBaseline_reference-<blend>.png).
 
-Parallel-only methods (objectorder) draw the same view in parallel projection.
+Parallel-only methods (objectorder) draw the same view in parallel projection. The shaded
+variants of first-order pre-integration (preint1-constant, -linear, -nonlinear) draw the
+composite scene with --shade's lighting, where their interpolations differ.
 
 Tolerance: the PNGs are 8-bit, so a pixel may differ by 1/255 from rounding alone; llvmpipe
 results vary slightly between CPUs, so up to 0.5% of the pixels may differ
@@ -29,6 +31,15 @@ os.makedirs(out_dir, exist_ok=True)
 composite = marschner_lobb_scene((128, 128))
 
 
+def shaded_scene():
+    """The composite scene lit as --shade lights it."""
+    from hovr import appearance as ha
+    color, opacity, _ = hio.read_transfer_function(tf_path("marschner-lobb-spikes"))
+    prop = hio.make_volume_property(color, opacity, composite.prop.GetScalarOpacityUnitDistance())
+    ha.shade(prop)
+    return hm.Scene(composite.image, prop, composite.camera, composite.size)
+
+
 def blend_scene(blend):
     if blend == "composite":
         return composite
@@ -46,7 +57,7 @@ runs += [(hm.get_method("reference"), "reference" + ("" if b == "composite" else
          for b in hm.BLEND_MODES]
 renderer = hm.Renderer()
 for method, name, blend in runs:
-    scene = blend_scene(blend)
+    scene = shaded_scene() if getattr(method, "interpolation", None) else blend_scene(blend)
     if method.parallel_only:  # the same view in parallel projection
         scene = hm.Scene(scene.image, scene.prop, hio.default_camera(scene.image.GetBounds(),
                                                                      parallel=True),
