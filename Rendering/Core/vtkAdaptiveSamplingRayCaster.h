@@ -40,8 +40,8 @@
  *
  * The oracle: the point array OracleArrayName (world units, as vtkAdaptiveSamplingOracle
  * produces it), trilinearly interpolated, divided by Delta and clamped to
- * [1, 2^MaximumLevel]; or, with OracleMode MINIMUM, d = 1 everywhere (the paper's "min." oracle, line 231)
- * without any array. NaN or infinite oracle values are an error.
+ * [1, 2^MaximumLevel]; or, with OracleMode MINIMUM, d = 1 everywhere (the paper's "min." oracle,
+ * line 231) without any array. NaN or infinite oracle values are an error.
  *
  * Counters of the last update (one SAMPLE = one volume fetch at a point inside the box;
  * the oracle is fetched with it; points outside the box are not fetched and not counted):

@@ -44,20 +44,19 @@
  *     vtkVolumeShadingModel::ShadeSegment() with the model's GradientInterpolation; opacity
  *     J'_0 + J'_1; a partial segment scaled as an unshaded one. This is the CPU mirror of the
  *     GLSL: its image is the mapper's up to the GPU's float rounding;
- *   - exactly (ExactSegments on; the segment-model reference): the scalar linear across the segment, the
- *     normal nlerp(front, back, u) normalised exactly (zero where it vanishes), ShadedSubsteps
- *     midpoint steps per segment (more where the transfer function needs finer ones, as the
- *     unshaded exact path takes them), each lit by vtkVolumeShadingModel::ShadePoint() (with
- *     the model's SpecularModel: CONE is what the table path uses) times the step's opacity
- *     1 - exp(-tau dt), composited front to back in double. With the cone, the mapper's error
- *     against R2 is that of shaded pre-integration's approximations (the quadratic
- *     normalisation of Eq. 5, the fades of the cases, the tables), and R2's error against
- *     vtkVolumeReferenceIntegrator with the same model that of the segment model (linear
- *     scalar, nlerp normal).
- * Shading with a second-order table or SECOND_ORDER integration, and the table path with a
- * table without the moment layers the interpolation reads, are errors (an empty image). The
- * model is used as given, whatever the property's Shade flag: its coefficients and lights are
- * the caller's (vtkVolumeShadingModel::SetFromProperty copies the property's coefficients).
+ *   - exactly (ExactSegments on; the segment-model reference): the scalar linear across the
+ * segment, the normal nlerp(front, back, u) normalised exactly (zero where it vanishes),
+ * ShadedSubsteps midpoint steps per segment (more where the transfer function needs finer ones, as
+ * the unshaded exact path takes them), each lit by vtkVolumeShadingModel::ShadePoint() (with the
+ * model's SpecularModel: CONE is what the table path uses) times the step's opacity 1 - exp(-tau
+ * dt), composited front to back in double. With the cone, the mapper's error against R2 is that of
+ * shaded pre-integration's approximations (the quadratic normalisation of Eq. 5, the fades of the
+ * cases, the tables), and R2's error against vtkVolumeReferenceIntegrator with the same model that
+ * of the segment model (linear scalar, nlerp normal). Shading with a second-order table or
+ * SECOND_ORDER integration, and the table path with a table without the moment layers the
+ * interpolation reads, are errors (an empty image). The model is used as given, whatever the
+ * property's Shade flag: its coefficients and lights are the caller's
+ * (vtkVolumeShadingModel::SetFromProperty copies the property's coefficients).
  */
 #ifndef vtkPreIntegrationRayCaster_h
 #define vtkPreIntegrationRayCaster_h
