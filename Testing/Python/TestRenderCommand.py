@@ -243,6 +243,15 @@ cases = [
     ("NaN step", ["--input", quadrant_vti, "--tf", TF, "--step", "nan"], "positive"),
     ("zero size", ["--input", quadrant_vti, "--tf", TF, "--size", 0, 10], "[1, 16384]"),
     ("unknown method", ["--input", quadrant_vti, "--tf", TF, "--method", "magic"], "magic"),
+    ("--lmax out of range", ["--input", "blobs:9", "--method", "adaptive-cpu", "--lmax", 9]
+     + good, "[0, 8]"),
+    ("negative oracle epsilon", ["--input", "blobs:9", "--method", "adaptive-cpu",
+                                 "--oracle-epsilon", -0.1] + good, "non-negative"),
+    ("unknown oracle mode", ["--input", "blobs:9", "--method", "adaptive-cpu",
+                             "--oracle-mode", "psychic"] + good, "psychic"),
+    ("pyramid image not divisible by 2^lmax", ["--input", "blobs:9", "--method",
+                                               "adaptive-cpu", "--tf", TF, "--size", 30, 30],
+     "divisible"),
 ]
 os.makedirs(os.path.join(tmp, "a-folder.vti"))
 for what, args, message in cases:
@@ -282,4 +291,24 @@ run_cli("render", "--input", "marschner-lobb:21", "--tf", TF, "--size", 32, 32, 
 maximum = vtk_to_numpy(hio.read_vti(mip_out).GetPointData().GetArray("MaxScalar"))
 c.check(numpy.nanmax(maximum) <= 1.0 + 1e-6 and numpy.isfinite(maximum).sum() > 100,
         "mip-stock writes a MaxScalar array in data units")
+# Adaptive sampling from the command line: the pyramid on the CPU with the default oracle
+# on the generated blobs, against the reference and against its own full rate.
+common = ["--input", "blobs:33", "--tf", tf_path("blobs"), "--opacity-unit-distance", 0.0625,
+          "--size", 64, 64, "--parallel"]
+blobs_ref = os.path.join(tmp, "blobs_ref.vti")
+run_cli("render", *common, "--method", "reference", "--output", blobs_ref)
+lines = {}
+for mode in ("min", "range"):
+    _, stdout, _ = run_cli("render", *common, "--method", "adaptive-cpu", "--oracle-mode", mode,
+                           "--repeat", 1, "--reference", blobs_ref)
+    lines[mode] = json.loads(stdout)
+c.check(lines["min"]["sample_ratio_to_full"] > 1.0 and
+        lines["range"]["sample_ratio_to_full"] < 0.2 and
+        lines["range"]["samples_per_frame"] == lines["range"]["sample_ops"],
+        "adaptive-cpu reports its samples against the full rate: %.3f (min oracle), %.3f "
+        "(range oracle)" % (lines["min"]["sample_ratio_to_full"],
+                            lines["range"]["sample_ratio_to_full"]))
+c.check(lines["range"]["rmse"] <= 1.5 * lines["min"]["rmse"] + 1e-6,
+        "and an error close to full rate's: %.3g vs %.3g" % (lines["range"]["rmse"],
+                                                             lines["min"]["rmse"]))
 c.finish()

@@ -33,6 +33,14 @@ add the measures of the analytic paper against the float64 reference: for ``iso`
 both hit, the hit/miss disagreements (surfaces the method misses, hits the reference lacks)
 and the depth error in voxels (largest, 99th percentile, mean) where both hit; for the
 projections the largest and mean error of the extremum as a fraction of the data range.
+``"adaptive": {"lmax": 3, "epsilon": 0.002, "oracle": "range"}`` in a dataset sets the
+adaptive methods' top level, oracle threshold and oracle mode (those are the defaults); a run
+``[method, step, {"lmax": 2}]`` renders an adaptive method with settings of its own (its rows
+are named after them, e.g. ``adaptive-cpu(lmax=2)``), and their rows add the operation counts
+(``sample_ops``, ``synthesis_ops``, ``full_rate_samples``, ``sample_ratio_to_full``: samples
+over those of a full-rate ray caster on the same slice grid) and the base step in voxels
+(``slice_spacing_voxels``). A run's step ``"pixel"`` is that base step: the distance
+between neighbouring rays of the dataset's parallel camera, in voxels.
 ``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
 image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
 approximations with the error term xi of El Hajjar et al., section 3.2.
@@ -57,6 +65,7 @@ import csv
 import hashlib
 import json
 import os
+import re
 import statistics
 
 from . import io as hio
@@ -75,7 +84,8 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "depth_max_error_not_grazing", "depth_outliers_not_grazing",
               "extremum_max_error", "extremum_mean_error",
               "nontransparent_cells", "occluded_ratio", "occluded_ratio_first_hit", "octree_nodes",
-              "cpu_bytes", "instruction_set"]
+              "cpu_bytes", "instruction_set", "slice_spacing_voxels", "sample_ops",
+              "synthesis_ops", "accumulate_ops", "full_rate_samples", "sample_ratio_to_full"]
 
 # Part of the reference cache key: bump when the reference's output changes.
 REFERENCE_VERSION = 3
@@ -102,13 +112,14 @@ def _expand(value, base):
 # Generated test volumes by --input prefix: the source class and its default size.
 GENERATED_VOLUMES = {"marschner-lobb": ("vtkMarschnerLobbSource", 41),
                      "thin-features": ("vtkThinFeatureSource", 64),
-                     "curved-shells": ("vtkCurvedShellSource", 129)}
+                     "curved-shells": ("vtkCurvedShellSource", 129),
+                     "blobs": ("vtkBlobSource", 129)}
 
 
 def load_volume(spec, base=None):
     """A volume from a dataset entry or an --input string: a path, ``marschner-lobb[:N]``,
-    ``thin-features[:N]`` (vtkThinFeatureSource) or ``curved-shells[:N]``
-    (vtkCurvedShellSource)."""
+    ``thin-features[:N]`` (vtkThinFeatureSource), ``curved-shells[:N]``
+    (vtkCurvedShellSource) or ``blobs[:N]`` (vtkBlobSource)."""
     source = spec["input"]
     for prefix, (class_name, default_size) in GENERATED_VOLUMES.items():
         if source == prefix or source.startswith(prefix + ":"):
@@ -134,6 +145,37 @@ def load_volume(spec, base=None):
 
 
 EXAGGERATED_NORMALS = "ExaggeratedNormals"
+
+
+def add_oracle(scene, mode, epsilon):
+    """Adds to the scene's volume the oracle of adaptive sampling for its opacity
+    (vtkAdaptiveSamplingOracle, ``mode`` a key of ORACLE_MODES, feature threshold
+    ``epsilon``), once per (mode, epsilon); returns the array's name. The distances are not
+    capped below the volume's diagonal, so every l_max and step can use them."""
+    from . import hovrFiltersImaging as imaging
+    from .registry import ORACLE_MODES
+    from .renderer import _Errors
+    key = (mode, float(epsilon))
+    if key in scene.oracles:
+        return scene.oracles[key]
+    name = "OracleDistance_%s_%g" % key
+    image = scene.image
+    oracle = imaging.vtkAdaptiveSamplingOracle()
+    oracle.SetInputData(image)
+    oracle.SetMode(ORACLE_MODES[mode])
+    oracle.SetScalarOpacity(scene.prop.GetScalarOpacity())
+    oracle.SetEpsilon(float(epsilon))
+    bounds = image.GetBounds()
+    diagonal = sum((bounds[2 * a + 1] - bounds[2 * a]) ** 2 for a in range(3)) ** 0.5
+    oracle.AutomaticMaximumDistanceOff()
+    oracle.SetMaximumDistance(max(diagonal, min(abs(s) for s in image.GetSpacing())))
+    oracle.SetOutputArrayName(name)
+    errors = _Errors(oracle)
+    oracle.Update()
+    errors.close()
+    image.GetPointData().AddArray(oracle.GetOutput().GetPointData().GetArray(name))
+    scene.oracles[key] = name
+    return name
 
 
 def exaggerate_normals(image, epsilon, neighborhood=5):
@@ -163,11 +205,15 @@ def load_config(path):
         hm.get_method(name)
     for entry in config.get("runs", []) + [r for d in config["datasets"] for r in d.get("runs", [])]:
         if (not isinstance(entry, list) or len(entry) not in (2, 3)
-                or not isinstance(entry[1], (int, float)) or not entry[1] > 0
-                or (len(entry) == 3 and not (isinstance(entry[2], int) and entry[2] >= 1))):
-            raise HovrError("%s: a run is [method, positive step] or [method, positive step, "
-                            "threads], got %r" % (path, entry))
-        hm.get_method(entry[0])
+                or not (entry[1] == "pixel" or isinstance(entry[1], (int, float))
+                        and entry[1] > 0)
+                or (len(entry) == 3 and not (isinstance(entry[2], int) and entry[2] >= 1)
+                    and not isinstance(entry[2], dict))):
+            raise HovrError("%s: a run is [method, positive step], [method, positive step, "
+                            "threads] or [method, positive step, {adaptive settings}], got %r"
+                            % (path, entry))
+        hm.get_method(entry[0], settings=entry[2] if len(entry) == 3 and
+                      isinstance(entry[2], dict) else None)
     for step in config.get("steps", []):
         if not (isinstance(step, (int, float)) and step > 0):
             raise HovrError("%s: steps must be positive numbers, got %r" % (path, step))
@@ -224,6 +270,7 @@ def _scene_for(spec, base, size):
                       prop.GetSpecularPower()]
     scene = hm.Scene(image, prop, camera, size, blend)
     scene.shading = shading
+    scene.adaptive.update(spec.get("adaptive", {}))
     return scene, warnings, prop_desc
 
 
@@ -264,8 +311,8 @@ def run(config_path, output, log=print, renderer=None):
                                   _reference_key(spec, scene.image, prop_desc + ["cone"],
                                                  scene.camera, size), log, "reference-cone")
             dataset_rows = []
-            pairs = [(hm.get_method(n, threads), step) for n, step, threads
-                     in _runs_of(spec, config)]
+            pairs = [(hm.get_method(n, threads, settings), _resolve_step(step, scene))
+                     for n, step, threads, settings in _runs_of(spec, config)]
             runs = [(m, step) for m, step in pairs if m.kind == "gpu"]
             results = renderer.render_interleaved(runs, scene, repeat) if runs else []
             for m, step in pairs:
@@ -286,7 +333,8 @@ def run(config_path, output, log=print, renderer=None):
                     row.update(hm.compare_blend(result.image, reference, scene))
                 row["dataset"] = name
                 dataset_rows.append(row)
-                stem = "%s_%s_step%g" % (name, method.name.replace("/", "-"), step)
+                stem = "%s_%s_step%g" % (name, re.sub(r"[^A-Za-z0-9.=_-]+", "-", method.name),
+                                         step)
                 hio.rgba_to_png(result.image, os.path.join(output, "images", stem + ".png"))
                 hio.rgba_to_png(difference, os.path.join(output, "images", stem + "_diff.png"),
                                 array="Difference", scale=10.0)
@@ -300,7 +348,10 @@ def run(config_path, output, log=print, renderer=None):
             if spec.get("ray_profile"):
                 plot.ray_profile(scene, float(spec.get("ray_profile_step", 2.0)),
                                  os.path.join(output, name + "_ray_profile.png"))
-            _add_ratios(dataset_rows, spec.get("baseline", config.get("baseline")))
+            baseline = spec.get("baseline", config.get("baseline"))
+            if baseline:
+                baseline = [baseline[0], _resolve_step(baseline[1], scene)]
+            _add_ratios(dataset_rows, baseline)
             rows.extend(dataset_rows)
     finally:
         if own_renderer:
@@ -325,15 +376,30 @@ def _reference(renderer, scene, name, output, key, log, method="reference"):
 
 
 def _runs_of(spec, config):
-    """The (method name, step, threads) of a dataset: explicit runs ([name, step] or
-    [name, step, threads]), else methods x steps; threads None is the default."""
+    """The (method name, step, threads, adaptive settings) of a dataset: explicit runs
+    ([name, step], [name, step, threads] or [name, step, {settings}]), else methods x steps;
+    threads None is the default, settings None the scene's."""
     runs = spec.get("runs", config.get("runs"))
     if runs:
-        return [(run[0], float(run[1]), int(run[2]) if len(run) > 2 else None) for run in runs]
+        return [(run[0], run[1] if run[1] == "pixel" else float(run[1]),
+                 run[2] if len(run) > 2 and not isinstance(run[2], dict) else None,
+                 run[2] if len(run) > 2 and isinstance(run[2], dict) else None)
+                for run in runs]
     steps = spec.get("steps", config.get("steps", [1]))
     names = spec.get("methods", config.get("methods", ["stock", "preint1"]))
-    return [(name, step, None) for name in names
+    return [(name, step, None, None) for name in names
             for step in (steps if hm.get_method(name).uses_step else [min(steps)])]
+
+
+def _resolve_step(step, scene):
+    """A run's step in voxels; "pixel" is the distance between neighbouring rays of the
+    scene's parallel camera, the base step of adaptive sampling's slice grid."""
+    if step != "pixel":
+        return step
+    if not scene.camera.GetParallelProjection():
+        raise HovrError("a run at step \"pixel\" needs a parallel camera (\"parallel\": true)")
+    spacing = min(abs(s) for s in scene.image.GetSpacing())
+    return 2.0 * scene.camera.GetParallelScale() / scene.size[1] / spacing
 
 
 def _add_ratios(rows, baseline=None):

@@ -71,7 +71,7 @@ def build_parser():
     from .appearance import VIEWS
     from .io import RAW_TYPES
     from .methods import METHODS
-    from .registry import CONES, INTERPOLATIONS, SPECULAR_MODELS
+    from .registry import CONES, INTERPOLATIONS, ORACLE_MODES, SPECULAR_MODELS
     parser = argparse.ArgumentParser(prog="hovr", description=(
         "Higher-order volume rendering for VTK: render with a method, measure its error "
         "against the reference integrator and its cost."))
@@ -85,7 +85,8 @@ def build_parser():
     render.add_argument("--input", required=True, help=(
         "volume: .vti, .mhd, .nii, .nii.gz, .slc, legacy .vtk structured points, raw (with "
         "--dims and --type), marschner-lobb[:N], thin-features[:N] (sheets and tubes "
-        "thinner than a voxel) or curved-shells[:N] (thin curved shells, for shading) for the "
+        "thinner than a voxel), curved-shells[:N] (thin curved shells, for shading) or "
+        "blobs[:N] (a few Gaussian blobs in empty space, for adaptive sampling) for the "
         "generated test volumes"))
     render.add_argument("--dims", nargs=3, type=_size, metavar=("X", "Y", "Z"),
                         help="raw input: points along x, y, z (x fastest)")
@@ -130,6 +131,17 @@ def build_parser():
     render.add_argument("--specular", choices=sorted(SPECULAR_MODELS), default="lobe",
                         help="--shade with the reference: VTK's specular lobe (default) or "
                         "the cone that shaded pre-integration uses")
+    render.add_argument("--lmax", type=_ranged(0, 8, "--lmax"), default=3, metavar="L",
+                        help="adaptive methods: the top level l_max; sampling distances reach "
+                        "2^L base steps (default 3, the paper's)")
+    render.add_argument("--oracle-epsilon", type=_non_negative, default=0.002, metavar="EPS",
+                        help="adaptive methods: the change of opacity that makes a feature of "
+                        "the oracle (default 0.002)")
+    render.add_argument("--oracle-mode", choices=sorted(ORACLE_MODES), default="range",
+                        help="adaptive methods: the oracle: range (opacity range over each "
+                        "point's cells, sees transfer-function spikes between voxel values; "
+                        "default), gradient (the paper's |grad opacity| > EPS), min (full "
+                        "rate) or max (the largest distance everywhere)")
     render.add_argument("--opacity-unit-distance", type=_positive, default=1.0, metavar="U",
                         help="distance in world units over which the opacities hold "
                         "(default 1)")
@@ -247,6 +259,8 @@ def cmd_render(args):
     scene = hm.Scene(image, prop, camera, args.size, blend)
     scene.shading = {"interpolation": args.gradient_interpolation, "gooch": args.gooch,
                      "specular": args.specular, "normals": normals, "cone": args.cone}
+    scene.adaptive = {"lmax": args.lmax, "epsilon": args.oracle_epsilon,
+                      "oracle": args.oracle_mode}
     if method.uses_step:
         scene.step_length(args.step)  # before any work: a step too small is an error
     renderer = hm.Renderer()

@@ -8,6 +8,8 @@ computes the image, ``count_samples`` and ``statistics`` report its cost. Adding
 means adding one entry to ``METHODS``.
 """
 
+import math
+
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import hovrRenderingCore as core
@@ -25,6 +27,11 @@ SPECULAR_MODELS = {"lobe": 0, "cone": 1}
 # The cone's slope: the paper's (n) or the one that keeps the lobe's light ((n + 1) / 2).
 CONES = {"paper": 0, "matched": 1}
 FLOAT_MAX = 3.4028234663852886e38
+# Oracle modes of adaptive sampling by name: vtkAdaptiveSamplingOracle's feature tests (the
+# paper's opacity gradient, the range-aware default) and its constant oracles.
+ORACLE_MODES = {"gradient": 0, "range": 1, "min": 2, "max": 3}
+# Settings of adaptive sampling a run may override (scene.adaptive holds the scene's).
+ADAPTIVE_SETTINGS = ("lmax", "epsilon", "oracle")
 
 
 class Method:
@@ -75,6 +82,10 @@ class Method:
         scene): one every ``step`` voxels inside the volume."""
         return rays.CountFixedStepSamples(scene.image, scene.step_length(step))
 
+    def algorithm_samples(self, algorithm):
+        """The samples the image algorithm (``make_algorithm``) took in its last update."""
+        return algorithm.GetNumberOfSamples()
+
     def statistics(self, mapper):
         """What the mapper (or the algorithm) reports after a frame, for the result's row."""
         return {}
@@ -116,6 +127,9 @@ class ThreadedMethod(Method):
 
     def count_samples(self, rays, scene, step):
         return self.method.count_samples(rays, scene, step)
+
+    def algorithm_samples(self, algorithm):
+        return self.method.algorithm_samples(algorithm)
 
     def set_threads(self, mapper, threads):
         self.method.set_threads(mapper, threads)
@@ -304,6 +318,96 @@ class ObjectOrderMethod(Method):
         return stats
 
 
+class AdaptiveMethod(Method):
+    """Adaptive sampling driven by an oracle volume (vtkAdaptiveSamplingOracle on the scene's
+    volume and opacity): the settings are the scene's (scene.adaptive: "lmax", "epsilon",
+    "oracle") unless the method is a variant with its own (``variant``)."""
+
+    overrides = {}
+
+    def variant(self, settings):
+        """A copy of this method with its own adaptive settings, named after them."""
+        unknown = sorted(set(settings) - set(ADAPTIVE_SETTINGS))
+        if unknown:
+            raise HovrError("unknown adaptive setting(s) %s (known: %s)" % (
+                ", ".join(unknown), ", ".join(ADAPTIVE_SETTINGS)))
+        copy = type(self).__new__(type(self))
+        copy.__dict__.update(self.__dict__)
+        copy.overrides = dict(self.overrides, **settings)
+        copy.name = "%s(%s)" % (self.name, ",".join(
+            "%s=%s" % (k, copy.overrides[k]) for k in ADAPTIVE_SETTINGS if k in copy.overrides))
+        return copy
+
+    def settings(self, scene):
+        values = dict(scene.adaptive, **self.overrides)
+        if not (isinstance(values["lmax"], int) and 0 <= values["lmax"] <= 8):
+            raise HovrError("lmax must be an integer in [0, 8], got %r" % (values["lmax"],))
+        if values["oracle"] not in ORACLE_MODES:
+            raise HovrError("unknown oracle mode %r (known: %s)" % (
+                values["oracle"], ", ".join(ORACLE_MODES)))
+        if not (values["epsilon"] >= 0 and math.isfinite(values["epsilon"])):
+            raise HovrError("the oracle epsilon must be finite and >= 0, got %r" % (
+                values["epsilon"],))
+        return values
+
+    def oracle_array(self, scene):
+        """The name of the scene volume's oracle array for this method's settings, computed
+        on first use (None for the "min" oracle, which the renderers know without an array)."""
+        values = self.settings(scene)
+        if values["oracle"] == "min":
+            return None
+        from .bench import add_oracle
+        return add_oracle(scene, values["oracle"], values["epsilon"])
+
+
+class AdaptivePyramidCPUMethod(AdaptiveMethod):
+    """vtkAdaptiveSamplingRayCaster: the slice pyramid on the CPU, in double (the
+    specification of the GPU pyramid), counting its operations. Its step is the distance
+    between neighbouring rays, set by the camera and the image size, not by --step."""
+
+    kind = "cpu"
+    uses_step = False
+    parallel_only = True
+
+    def render(self, renderer, scene, step, repeat):
+        return renderer.render_offline(self, scene, step, repeat)
+
+    def make_mapper(self):
+        return None  # it computes its image off-screen
+
+    def make_algorithm(self, scene):
+        caster = core.vtkAdaptiveSamplingRayCaster()
+        caster.SetInputData(scene.image)
+        caster.SetVolumeProperty(scene.prop)
+        caster.SetCamera(scene.camera)
+        caster.SetImageSize(*scene.size)
+        return caster
+
+    def configure(self, target, scene):
+        values = self.settings(scene)
+        target.SetMaximumLevel(values["lmax"])
+        array = self.oracle_array(scene)
+        if array is None:
+            target.SetOracleModeToMinimum()
+        else:
+            target.SetOracleModeToArray()
+            target.SetOracleArrayName(array)
+
+    def algorithm_samples(self, algorithm):
+        return algorithm.GetNumberOfSampleOperations()
+
+    def statistics(self, caster):
+        full = caster.GetFullRateSampleOperations()
+        spacing = min(abs(s) for s in caster.GetInput().GetSpacing())
+        return {"sample_ops": caster.GetNumberOfSampleOperations(),
+                "synthesis_ops": caster.GetNumberOfSynthesisOperations(),
+                "accumulate_ops": caster.GetNumberOfAccumulateOperations(),
+                "full_rate_samples": full,
+                "sample_ratio_to_full": caster.GetNumberOfSampleOperations() / full
+                if full > 0 else float("nan"),
+                "slice_spacing_voxels": caster.GetSliceSpacing() / spacing}
+
+
 METHODS = {m.name: m for m in (
     ReferenceMethod("reference", "CPU ground truth: exact cubic per cell, adaptive pieces "
                                  "(vtkVolumeReferenceIntegrator)"),
@@ -344,15 +448,24 @@ METHODS = {m.name: m for m in (
                       "point-sampled classification (vtkObjectOrderVolumeMapper)",
                       core.vtkObjectOrderRayCaster.POINT_SAMPLED),
     FixedPointMethod("fixedpoint", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper)"),
+    AdaptivePyramidCPUMethod("adaptive-cpu", "adaptive sampling in three dimensions on the "
+                             "CPU: the oracle's slice pyramid, one slice per ray spacing, "
+                             "parallel projection (vtkAdaptiveSamplingRayCaster)"),
 )}
 
 
-def get_method(name, threads=None):
-    """The method of that name; with ``threads``, pinned to that many threads."""
+def get_method(name, threads=None, settings=None):
+    """The method of that name; with ``threads``, pinned to that many threads; with
+    ``settings`` (a dict), an adaptive method's variant with those settings."""
     if name not in METHODS:
         raise HovrError("unknown method %r (known: %s)" % (name, ", ".join(METHODS)))
+    method = METHODS[name]
+    if settings:
+        if not isinstance(method, AdaptiveMethod):
+            raise HovrError("method %s takes no adaptive settings" % name)
+        method = method.variant(settings)
     if threads is None:
-        return METHODS[name]
+        return method
     if not (isinstance(threads, int) and threads >= 1):
         raise HovrError("the thread count must be a positive integer, got %r" % (threads,))
-    return ThreadedMethod(METHODS[name], threads)
+    return ThreadedMethod(method, threads)

@@ -64,6 +64,11 @@ class Scene:
         # "cone" is the slope of the cone that stands for the lobe: "paper" or "matched".
         self.shading = {"interpolation": "nonlinear", "gooch": False, "specular": "lobe",
                         "normals": None, "lights": None, "cone": "paper"}
+        # Adaptive sampling: the top pyramid level l_max, the oracle's feature threshold
+        # epsilon and its mode (a key of ORACLE_MODES); oracle arrays computed for the scene,
+        # by (mode, epsilon).
+        self.adaptive = {"lmax": 3, "epsilon": 0.002, "oracle": "range"}
+        self.oracles = {}
         # One camera model for every method: a camera the reference's rays cannot follow
         # (view up along the view, a zero parallel scale, non-finite values) is refused for all.
         rays = core.vtkCameraRayModel()
@@ -206,7 +211,7 @@ class Renderer:
         image = vtkImageData()
         image.DeepCopy(algorithm.GetOutput())
         return RenderResult(image, times[1:] if repeat > 0 else [],
-                            algorithm.GetNumberOfSamples(), method.statistics(algorithm))
+                            method.algorithm_samples(algorithm), method.statistics(algorithm))
 
     def render_interleaved(self, runs, scene, repeat=0):
         """Render ``scene`` with several (method, step) runs drawn in the window, timing them
