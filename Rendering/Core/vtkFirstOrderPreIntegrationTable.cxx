@@ -39,47 +39,64 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
   }
 
   float* table = this->Table->GetPointer(0);
+  auto store = [table, n](vtkIdType i, vtkIdType j, const double rgb[3], double transmittance)
+  {
+    float* out = table + 4 * (j * static_cast<vtkIdType>(n) + i);
+    out[0] = static_cast<float>(rgb[0]);
+    out[1] = static_cast<float>(rgb[1]);
+    out[2] = static_cast<float>(rgb[2]);
+    out[3] = static_cast<float>(1.0 - transmittance);
+  };
+  // Entries of one scalar difference m = |j - i| share the piece length d / (m k), so each
+  // piece's opacity is one exponential per difference, not one per entry that crosses it.
+  const int pieceCount = (n - 1) * k;
   this->ForInParts(n,
-    [&](vtkIdType jBegin, vtkIdType jEnd)
+    [&](vtkIdType mBegin, vtkIdType mEnd)
     {
-      for (vtkIdType j = jBegin; j < jEnd; ++j) // back scalar: rows
+      std::vector<double> alphas(static_cast<size_t>(pieceCount));
+      for (vtkIdType m = mBegin; m < mEnd; ++m)
       {
-        for (int i = 0; i < n; ++i) // front scalar
+        if (m == 0)
         {
-          double rgb[3] = { 0, 0, 0 };
-          double transmittance = 1.0;
-          if (i == j)
+          for (int i = 0; i < n; ++i)
           {
             const double* f = atNode.data() + 4 * i;
             const double alpha = -std::expm1(-f[3] * d);
-            rgb[0] = f[0] * alpha;
-            rgb[1] = f[1] * alpha;
-            rgb[2] = f[2] * alpha;
-            transmittance = 1.0 - alpha;
+            const double rgb[3] = { f[0] * alpha, f[1] * alpha, f[2] * alpha };
+            store(i, i, rgb, 1.0 - alpha);
           }
-          else
+          continue;
+        }
+        const int pieces = static_cast<int>(m) * k;
+        const double h = d / pieces;
+        for (int q = 0; q < pieceCount; ++q)
+        {
+          alphas[q] = -std::expm1(-atPiece[4 * q + 3] * h);
+        }
+        for (int i = 0; i + m < n; ++i)
+        {
+          // Walk the pieces from the front scalar to the back scalar: upwards from i to
+          // j = i + m, and downwards from j to i.
+          for (int direction = 0; direction < 2; ++direction)
           {
-            // Walk the pieces from the front scalar to the back scalar.
-            const int pieces = static_cast<int>(std::abs(j - i)) * k;
-            const double h = d / pieces;
-            const int first = j > i ? i * k : i * k - 1;
-            const int step = j > i ? 1 : -1;
+            const int front = direction == 0 ? i : static_cast<int>(i + m);
+            const int first = direction == 0 ? front * k : front * k - 1;
+            const int step = direction == 0 ? 1 : -1;
+            double rgb[3] = { 0, 0, 0 };
+            double transmittance = 1.0;
             for (int p = 0; p < pieces; ++p)
             {
-              const double* f = atPiece.data() + 4 * (first + step * p);
-              const double alpha = -std::expm1(-f[3] * h);
+              const int q = first + step * p;
+              const double* f = atPiece.data() + 4 * q;
+              const double alpha = alphas[q];
               const double w = transmittance * alpha;
               rgb[0] += w * f[0];
               rgb[1] += w * f[1];
               rgb[2] += w * f[2];
               transmittance *= 1.0 - alpha;
             }
+            store(front, direction == 0 ? i + m : i, rgb, transmittance);
           }
-          float* out = table + 4 * (j * static_cast<vtkIdType>(n) + i);
-          out[0] = static_cast<float>(rgb[0]);
-          out[1] = static_cast<float>(rgb[1]);
-          out[2] = static_cast<float>(rgb[2]);
-          out[3] = static_cast<float>(1.0 - transmittance);
         }
       }
     });
