@@ -94,18 +94,13 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
     return 1;
   }
   vtkVolumeShadingModel* model = this->ShadingModel;
-  if (model && order != 1)
-  {
-    vtkErrorMacro("Shading is first order only: second-order compositing (a second-order "
-                  "table or SECOND_ORDER integration) cannot be shaded; the image is empty.");
-    return 1;
-  }
-  // The moment layers the table path reads, as vtkPreIntegrationVolumeMapper asks them.
+  // The moment layers the table path reads (per half slab for second order), as
+  // vtkPreIntegrationVolumeMapper asks them.
   const int needed = !model                                                 ? 0
     : model->GetGradientInterpolation() != vtkVolumeShadingModel::NONLINEAR ? 2
     : model->GetGooch()                                                     ? 4
                                                                             : 5;
-  if (model && !this->ExactSegments)
+  if (model && !this->ExactSegments && order == 1)
   {
     const int moments = chordTable ? chordTable->GetMoments() : 0;
     if (!chordTable || moments < needed)
@@ -116,6 +111,21 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
         << (model->GetGooch() ? " with Gooch shading" : "") << "); the table has "
         << (chordTable ? "Moments " + std::to_string(moments)
                        : std::string("none (a vtkFirstOrderPreIntegrationTable)"))
+        << ". The image is empty.");
+      return 1;
+    }
+  }
+  if (model && !this->ExactSegments && order == 2)
+  {
+    const int moments = chordTable->GetSlabMoments();
+    if (moments < needed || chordTable->GetDeviationSize() < 2)
+    {
+      vtkErrorMacro("Shaded second-order compositing from the table needs the slab moment "
+                    "layers of a vtkSecondOrderPreIntegrationTable (DeviationSize above 1, "
+                    "SlabMoments at least "
+        << needed << " for this gradient interpolation"
+        << (model->GetGooch() ? " with Gooch shading" : "") << "); the table has DeviationSize "
+        << chordTable->GetDeviationSize() << " and SlabMoments " << moments
         << ". The image is empty.");
       return 1;
     }

@@ -30,7 +30,7 @@
  * updates them. Point scalars, one component; NaN samples make their segments transparent, as on
  * the GPU.
  *
- * Shading (SetShadingModel), first order only, as vtkPreIntegrationVolumeMapper shades (Guetat
+ * Shading (SetShadingModel), as vtkPreIntegrationVolumeMapper shades (Guetat
  * et al. 2010, hovrPreIntegrationShading.glsl): each segment takes the normals at its two ends
  * (its samples; the box entry for the first segment, the exit for the last): the gradient as
  * GradientOperator says (by default VTK's GPU ray caster's, which the mapper uses) or the
@@ -52,9 +52,18 @@
  * dt), composited front to back in double. With the cone, the mapper's error against R2 is that of
  * shaded pre-integration's approximations (the quadratic normalisation of Eq. 5, the fades of the
  * cases, the tables), and R2's error against vtkVolumeReferenceIntegrator with the same model that
- * of the segment model (linear scalar, nlerp normal). Shading with a second-order table or
- * SECOND_ORDER integration, and the table path with a table without the moment layers the
- * interpolation reads, are errors (an empty image). The model is used as given, whatever the
+ * of the segment model (linear scalar, nlerp normal).
+ *
+ * Shaded second order takes the normals at each slab's front, middle and back (for the last,
+ * shorter slab: its front, midpoint and end) and composites the slab
+ *   - from the table: the slab moment layers of a vtkSecondOrderPreIntegrationTable
+ *     (SlabMoments as many as first order's Moments: 2, 5 or 4) read with the trilinear lookup,
+ *     each half slab lit by ShadeSegment() between its end normals, the two summed, as
+ *     hovrPreIntegration2.glsl does;
+ *   - exactly (R2 of the slab model): the scalar on the quadratic (Eq. 2), the normal nlerp
+ *     over each half, point by point as for first order.
+ * The table path with a table without the moment layers the interpolation reads is an error
+ * (an empty image). The model is used as given, whatever the
  * property's Shade flag: its coefficients and lights are the caller's
  * (vtkVolumeShadingModel::SetFromProperty copies the property's coefficients).
  */
@@ -138,7 +147,7 @@ public:
 
   ///@{
   /**
-   * The lighting of shaded first-order compositing (see the class description): nullptr
+   * The lighting of shaded compositing (see the class description): nullptr
    * composites unshaded. Initial value is nullptr.
    */
   virtual void SetShadingModel(vtkVolumeShadingModel*);

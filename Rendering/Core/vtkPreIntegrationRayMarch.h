@@ -16,11 +16,14 @@
  *   - ExactPieces integrates the model scalar path (linear or quadratic, Eq. 2) through the
  *     transfer function, with pieces no wider than a scalar step, in double.
  * Shaded first order (Guetat et al. 2010, as hovrPreIntegrationShading.glsl) takes the normals
- * at both ends of each segment (Grid::Normal: VTK's normalised central-difference gradient):
+ * at both ends of each segment (Grid::Normal: VTK's normalised central-difference gradient),
+ * shaded second order those at the front, middle and back of each slab:
  *   - ShadedTablePieces reads the moment layers of the table and lights them with
- *     vtkVolumeShadingModel::ShadeSegment(), as the GLSL does;
- *   - ShadedExactPieces integrates the segment model (linear scalar, nlerp normal) point by
- *     point with vtkVolumeShadingModel::ShadePoint(): the segment-model reference R2.
+ *     vtkVolumeShadingModel::ShadeSegment() (a slab: once per half, between the normals at
+ *     its ends), as the GLSL does;
+ *   - ShadedExactPieces integrates the segment model (linear scalar, nlerp normal; a slab:
+ *     quadratic scalar, nlerp over each half) point by point with
+ *     vtkVolumeShadingModel::ShadePoint(): the segment-model reference R2.
  * vtkPreIntegrationRayCaster renders camera images with it; vtkPreIntegrationTableSizer
  * measures candidate tables on random rays with it.
  */
@@ -432,6 +435,56 @@ public:
       rgba[3] = moments[0][3] + moments[1][3];
       Scale(rgba, fraction);
     }
+
+    // A second-order slab from a table with SlabMoments (Layers = 2 SlabMoments): each half's
+    // moments read with the trilinear lookup of TablePieces and shaded as a segment between
+    // its end normals, (nf, nm) and (nm, nb); the two summed, as hovrPreIntegration2.glsl
+    // does. Opacity: J'_0 + J'_1 of both halves.
+    void ShadedSlab(double sf,
+      double sm,
+      double sb,
+      const double nf[3],
+      const double nm[3],
+      const double nb[3],
+      double fraction,
+      double length,
+      double rgba[4]) const
+    {
+      (void)length;
+      double v[3];
+      TableView::SlabAxes(sf, sm, sb, v);
+      vtkIdType index[8];
+      double weight[8];
+      this->Table.Corners(v, index, weight);
+      const int half = this->Layers / 2;
+      double alpha = 0.0;
+      std::fill(rgba, rgba + 3, 0.0);
+      for (int p = 0; p < 2; ++p)
+      {
+        double moments[5][4] = {};
+        for (int l = 0; l < std::min(half, 5); ++l)
+        {
+          for (int c = 0; c < (1 << this->Table.Dimensions); ++c)
+          {
+            const float* e =
+              this->Table.Entries + 4 * (index[c] + (p * half + l) * this->LayerStride);
+            for (int k = 0; k < 4; ++k)
+            {
+              moments[l][k] += weight[c] * e[k];
+            }
+          }
+        }
+        double rgb[3];
+        this->Model->ShadeSegment(moments, p == 0 ? nf : nm, p == 0 ? nm : nb, this->View, rgb);
+        for (int c = 0; c < 3; ++c)
+        {
+          rgba[c] += rgb[c];
+        }
+        alpha += moments[0][3] + moments[1][3];
+      }
+      rgba[3] = alpha;
+      Scale(rgba, fraction);
+    }
   };
 
   // Shaded first-order segments integrated along the segment model (the segment-model reference):
@@ -495,6 +548,70 @@ public:
       }
       rgba[3] = 1.0 - transmittance;
     }
+
+    // A second-order slab along its model: the scalar on the quadratic through (sf, sm, sb)
+    // (Eq. 2), the normal nlerp(nf, nm, 2u) over the front half and nlerp(nm, nb, 2u - 1)
+    // over the back half, exactly normalised; steps as ShadedSegment's, an even number.
+    void ShadedSlab(double sf,
+      double sm,
+      double sb,
+      const double nf[3],
+      const double nm[3],
+      const double nb[3],
+      double fraction,
+      double length,
+      double rgba[4]) const
+    {
+      std::fill(rgba, rgba + 4, 0.0);
+      const double b = -3.0 * sf + 4.0 * sm - sb, a = 2.0 * sf - 4.0 * sm + 2.0 * sb;
+      double lo = std::min(sf, sb), hi = std::max(sf, sb);
+      const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
+      if (vertex > 0.0 && vertex < 1.0)
+      {
+        lo = std::min(lo, sf + vertex * (b + a * vertex));
+        hi = std::max(hi, sf + vertex * (b + a * vertex));
+      }
+      if (!(this->Sampler->GetMaximumOpacity(lo, hi) > 0.0))
+      {
+        return;
+      }
+      const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
+      const double feature = std::min(this->Sampler->GetSmallestFeature(lo, hi), this->DataRange);
+      const double step = feature > 0.0 && feature < 1e300 ? this->Tolerance * feature : 1e300;
+      int n = static_cast<int>(std::min(
+        std::max(std::ceil(sweep / step), static_cast<double>(std::max(this->Substeps, 1))), 1e6));
+      n += n % 2;
+      const double h = fraction * length / n;
+      double transmittance = 1.0;
+      for (int k = 0; k < n; ++k)
+      {
+        const double u = (k + 0.5) / n;
+        double sample[4];
+        this->Sampler->Evaluate(sf + u * (b + u * a), sample);
+        if (!(sample[3] > 0.0))
+        {
+          continue;
+        }
+        const bool front = 2 * k < n;
+        const double* n0 = front ? nf : nm;
+        const double* n1 = front ? nm : nb;
+        const double w = front ? 2.0 * u : 2.0 * u - 1.0;
+        const double mix[3] = { (1.0 - w) * n0[0] + w * n1[0],
+          (1.0 - w) * n0[1] + w * n1[1],
+          (1.0 - w) * n0[2] + w * n1[2] };
+        double normal[3], colour[3] = { sample[0], sample[1], sample[2] }, shaded[3];
+        Grid::Normalize(mix, normal);
+        this->Model->ShadePoint(normal, this->View, colour, shaded);
+        const double alpha = -std::expm1(-sample[3] * h);
+        const double weight = transmittance * alpha;
+        for (int c = 0; c < 3; ++c)
+        {
+          rgba[c] += weight * shaded[c];
+        }
+        transmittance *= 1.0 - alpha;
+      }
+      rgba[3] = 1.0 - transmittance;
+    }
   };
 
   // Whether a Pieces policy shades (has ShadedSegment): Cast then computes the normals at the
@@ -527,8 +644,8 @@ public:
   /**
    * The ray o + t v (grid index; t in world units, v the index-space image of a unit world
    * direction) from t0 to t1 inside the box, samples `step` apart, `order` 1 or 2. Shaded
-   * pieces (IsShaded) get the grid's normals at both ends of each segment and composite first
-   * order only (order 2 leaves the ray transparent).
+   * pieces (IsShaded) get the grid's normals at both ends of each segment (first order) or at
+   * the front, middle and back of each slab (second order).
    */
   template <class Pieces>
   static void Cast(const Grid& grid,
@@ -600,29 +717,28 @@ public:
       }
       return;
     }
-    if constexpr (shaded)
-    {
-      return; // shaded pre-integration is first order only
-    }
-    else
-    {
-      CastSlabs(pieces, h, threshold, at, t0, t1, sFront, rgba);
-    }
+    CastSlabs(pieces, h, threshold, at, normalAt, t0, t1, sFront, nFront, rgba);
   }
 
-  // Second order: slabs of two steps from t0, then the rest.
-  template <class Pieces, class At>
+  // Second order: slabs of two steps from t0, then the rest. Shaded pieces get the normals
+  // at the slab's front, middle and back (nFront: at t0).
+  template <class Pieces, class At, class NormalAt>
   static void CastSlabs(const Pieces& pieces,
     double h,
     double threshold,
     const At& at,
+    const NormalAt& normalAt,
     double t0,
     double t1,
     double sFront,
+    const double nEntry[3],
     double rgba[4])
   {
+    constexpr bool shaded = IsShaded<Pieces>::value;
     const double length = t1 - t0;
     double piece[4];
+    double nFront[3] = { nEntry[0], nEntry[1], nEntry[2] }, nMiddle[3] = { 0, 0, 0 },
+           nBack[3] = { 0, 0, 0 };
     // Slabs (front, middle, back) of two samples from the entry; the rest as one piece
     // through its front, midpoint and end.
     double front = 0.0; // distance of the slab's front from the entry
@@ -630,9 +746,15 @@ public:
     {
       const double sMiddle = at(t0 + front + h);
       const double sBack = at(t0 + front + 2.0 * h);
+      normalAt(t0 + front + h, nMiddle);
+      normalAt(t0 + front + 2.0 * h, nBack);
       if (std::isnan(sFront + sMiddle + sBack))
       {
         std::fill(piece, piece + 4, 0.0);
+      }
+      else if constexpr (shaded)
+      {
+        pieces.ShadedSlab(sFront, sMiddle, sBack, nFront, nMiddle, nBack, 1.0, 2.0 * h, piece);
       }
       else
       {
@@ -643,13 +765,24 @@ public:
         return;
       }
       sFront = sBack;
+      std::copy(nBack, nBack + 3, nFront);
       front += 2.0 * h;
     }
     const double rest = length - front;
     const double sMiddle = at(t0 + front + 0.5 * rest), sBack = at(t1);
     if (rest > 0.0 && !std::isnan(sFront + sMiddle + sBack))
     {
-      pieces.Slab(sFront, sMiddle, sBack, rest / (2.0 * h), 2.0 * h, piece);
+      if constexpr (shaded)
+      {
+        normalAt(t0 + front + 0.5 * rest, nMiddle);
+        normalAt(t1, nBack);
+        pieces.ShadedSlab(
+          sFront, sMiddle, sBack, nFront, nMiddle, nBack, rest / (2.0 * h), 2.0 * h, piece);
+      }
+      else
+      {
+        pieces.Slab(sFront, sMiddle, sBack, rest / (2.0 * h), 2.0 * h, piece);
+      }
       Composite(piece, threshold, rgba);
     }
   }

@@ -39,7 +39,8 @@ vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntries() const
 //------------------------------------------------------------------------------
 int vtkSecondOrderPreIntegrationTable::GetNumberOfLayers() const
 {
-  return this->DeviationSize == 1 ? std::max(this->Moments, 1) : 1;
+  return this->DeviationSize == 1 ? std::max(this->Moments, 1)
+                                  : (this->SlabMoments > 0 ? 2 * this->SlabMoments : 1);
 }
 
 //------------------------------------------------------------------------------
@@ -232,6 +233,38 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
       });
     return;
   }
+  if (this->SlabMoments > 0 && nd > 1)
+  {
+    // Shaded second order: the moments of both halves of every slab, tasks as below.
+    const size_t stride = 4 * static_cast<size_t>(nc) * nb * nd;
+    this->ForInParts(static_cast<vtkIdType>(nd) * nc,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        std::vector<float> steps;
+        for (vtkIdType row = begin; row < end; ++row)
+        {
+          const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
+          for (int j = 0; j <= (nb - 1) / 2; ++j)
+          {
+            const int mirror = nb - 1 - j;
+            float* forward = table + 4 * (i + static_cast<vtkIdType>(nc) * (j + nb * k));
+            float* backward = table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k));
+            kernel.IntegrateMoments(i,
+              j,
+              k,
+              true,
+              samples,
+              runs,
+              steps,
+              this->SlabMoments,
+              stride,
+              forward,
+              mirror != j ? backward : nullptr);
+          }
+        }
+      });
+    return;
+  }
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
   this->ForInParts(static_cast<vtkIdType>(nd) * nc,
@@ -301,4 +334,5 @@ void vtkSecondOrderPreIntegrationTable::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "Prefilter: " << (this->Prefilter ? "On" : "Off") << "\n";
   os << indent << "Moments: " << this->Moments << "\n";
+  os << indent << "SlabMoments: " << this->SlabMoments << "\n";
 }

@@ -142,9 +142,27 @@ public:
   vtkGetMacro(Moments, int);
   ///@}
 
+  ///@{
   /**
-   * Layers of TableSize x ChordSize x DeviationSize RGBA entries the table stores: Moments,
-   * or 1.
+   * Moment layers for shaded second-order slabs (vtkVolumeShadingModel::ShadeSegment once per
+   * half slab), DeviationSize above 1 only: 0 stores the slab's RGBA; 2, 4 or 5 store twice
+   * that many layers of TableSize x ChordSize x DeviationSize entries one after the other
+   * instead: layers 0..SlabMoments-1 hold the moments of Moments' layers for the slab's front
+   * half, its position u' = 2u running over [0, 1/2] of the slab, and the next SlabMoments
+   * layers those of its back half, u' = 2u - 1, both with the scalar on the slab's quadratic
+   * (Eq. 2) and attenuated from the slab's front. Shading each half as a first-order segment
+   * between its end normals (front and middle, middle and back) and adding the two gives the
+   * slab: the arc passes through the middle normal. The four layers 0, 1, SlabMoments and
+   * SlabMoments + 1 sum to the unshaded RGBA. Ignored (one RGBA layer) when DeviationSize is 1.
+   * Initial value is 0.
+   */
+  vtkSetClampMacro(SlabMoments, int, 0, 5);
+  vtkGetMacro(SlabMoments, int);
+  ///@}
+
+  /**
+   * Layers of TableSize x ChordSize x DeviationSize RGBA entries the table stores: Moments
+   * when DeviationSize is 1, twice SlabMoments otherwise, or 1.
    */
   int GetNumberOfLayers() const;
 
@@ -212,6 +230,7 @@ protected:
   int Iterations = 64;
   bool Prefilter = false;
   int Moments = 0;
+  int SlabMoments = 0;
   int IterationSamples = 0;
   int IterationSamplesPerSpacing = 2;
   vtkFloatArray* IterationTable;

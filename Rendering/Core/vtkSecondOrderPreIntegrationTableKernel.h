@@ -90,14 +90,16 @@ struct vtkSecondOrderPreIntegrationTableKernel
   }
 
   // The steps of entry (i, j, k)'s path into steps: per step (c alpha, alpha), alpha =
-  // 1 - exp(-tau h). Returns their number, 0 for a path inside one zero-opacity run.
+  // 1 - exp(-tau h). Returns their number (at least minimumSteps, even if asked), 0 for a
+  // path inside one zero-opacity run.
   int Sample(int i,
     int j,
     int k,
     const float* samples,
     const float* runs,
     std::vector<float>& steps,
-    int minimumSteps = 1) const
+    int minimumSteps = 1,
+    bool even = false) const
   {
     float x0, b, a;
     this->Path(i, j, k, x0, b, a);
@@ -105,7 +107,8 @@ struct vtkSecondOrderPreIntegrationTableKernel
     {
       return 0;
     }
-    const int n = std::max(this->Steps(b, a), minimumSteps);
+    int n = std::max(this->Steps(b, a), minimumSteps);
+    n += even ? n % 2 : 0; // halves of a slab end on a step boundary
     const float h = this->Length / static_cast<float>(n);
     const float width = 1.0f / static_cast<float>(n);
     const float top = static_cast<float>(this->Samples - 1);
@@ -167,6 +170,13 @@ struct vtkSecondOrderPreIntegrationTableKernel
   // weights are averaged exactly over each step, and a path takes at least MomentSteps steps
   // (the transmittance inside the segment skews the moments even where the scalar is
   // constant).
+  //
+  // With halves (a second-order slab, any deviation k), the slab's front half [0, 1/2] and
+  // back half [1/2, 1] each get the `layers` moments of their own position u' = 2u and
+  // 2u - 1 (front half in layers 0..layers-1, back half in layers..2 layers-1), attenuated
+  // by the transmittance from the slab's front: each half is shaded as a first-order segment
+  // between its end normals (front, middle) and (middle, back), and the two sum to the slab.
+  // A slab takes at least 2 MomentSteps steps, an even number of them.
   static constexpr int MomentSteps = 16;
   void IntegrateMoments(int i,
     int j,
@@ -178,11 +188,26 @@ struct vtkSecondOrderPreIntegrationTableKernel
     float* forward,
     float* backward) const
   {
-    const int n = this->Sample(i, j, 0, samples, runs, steps, MomentSteps);
-    CompositeMoments(steps.data(), n, false, layers, stride, forward);
+    this->IntegrateMoments(i, j, 0, false, samples, runs, steps, layers, stride, forward, backward);
+  }
+  void IntegrateMoments(int i,
+    int j,
+    int k,
+    bool halves,
+    const float* samples,
+    const float* runs,
+    std::vector<float>& steps,
+    int layers,
+    size_t stride,
+    float* forward,
+    float* backward) const
+  {
+    const int n =
+      this->Sample(i, j, k, samples, runs, steps, (halves ? 2 : 1) * MomentSteps, halves);
+    CompositeMoments(steps.data(), n, false, layers, stride, forward, halves);
     if (backward)
     {
-      CompositeMoments(steps.data(), n, true, layers, stride, backward);
+      CompositeMoments(steps.data(), n, true, layers, stride, backward, halves);
     }
   }
 
@@ -191,16 +216,20 @@ struct vtkSecondOrderPreIntegrationTableKernel
     bool reversed,
     int layers,
     size_t stride,
-    float* out)
+    float* out,
+    bool halves = false)
   {
-    float sum[5][4] = {};
+    float sum[2][5][4] = {};
     float transmittance = 1.0f;
+    const int parts = halves ? 2 : 1;
+    // Step width in the position of the segment or half.
+    const float w = static_cast<float>(parts) / static_cast<float>(n);
     for (int m = 0; m < n; ++m)
     {
       const float* step = steps + 4 * (reversed ? n - 1 - m : m);
+      const int part = halves && 2 * m >= n ? 1 : 0;
       // Averages over the step [u - w/2, u + w/2]: <u^2> = u^2 + w^2/12, <u^3> = u^3 + u w^2/4.
-      const float w = 1.0f / static_cast<float>(n);
-      const float u = (static_cast<float>(m) + 0.5f) * w;
+      const float u = (static_cast<float>(m - part * (n / 2)) + 0.5f) * w;
       const float u2 = u * u + w * w / 12.0f, u3 = u * (u * u + w * w / 4.0f);
       const float v = 1.0f - u;
       const float weights[4] = { v, u, u - 2.0f * u2 + u3, u2 - u3 };
@@ -209,15 +238,18 @@ struct vtkSecondOrderPreIntegrationTableKernel
         const float weight = transmittance * weights[l];
         for (int c = 0; c < 4; ++c)
         {
-          sum[l][c] += weight * step[c];
+          sum[part][l][c] += weight * step[c];
         }
       }
-      sum[4][0] += transmittance * step[3] * std::min(2.0f * u, 2.0f * v);
+      sum[part][4][0] += transmittance * step[3] * std::min(2.0f * u, 2.0f * v);
       transmittance *= 1.0f - step[3];
     }
-    for (int l = 0; l < layers; ++l)
+    for (int p = 0; p < parts; ++p)
     {
-      std::copy(sum[l], sum[l] + 4, out + l * stride);
+      for (int l = 0; l < layers; ++l)
+      {
+        std::copy(sum[p][l], sum[p][l] + 4, out + (p * layers + l) * stride);
+      }
     }
   }
 

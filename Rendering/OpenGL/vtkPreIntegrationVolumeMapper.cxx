@@ -205,11 +205,7 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkRenderer* r
   {
     return "pre-integration does not support 2D transfer functions";
   }
-  if (property->GetShade(0) && this->Integration == SECOND_ORDER)
-  {
-    return "second-order pre-integration does not shade (first order does)";
-  }
-  if (property->GetShade(0) && this->Integration == FIRST_ORDER)
+  if (property->GetShade(0))
   {
     vtkNew<vtkVolumeShadingModel> lights;
     if (lights->SetLightsFromRenderer(ren) > 0)
@@ -316,7 +312,15 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     return DrawNothing;
   }
-  table->SetMoments(layers);
+  // Second order keeps the moments of both halves of a slab (SlabMoments).
+  if (secondOrder)
+  {
+    table->SetSlabMoments(layers);
+  }
+  else
+  {
+    table->SetMoments(layers);
+  }
   table->SetVolumeProperty(vol->GetProperty());
   // A first-order segment spans one sample distance, a second-order slab two.
   table->SetSegmentLength(secondOrder ? 2.0 * this->SampleDistance : this->SampleDistance);
@@ -332,8 +336,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     return DrawNothing;
   }
-  // A GPU build integrates from what Update() prepares; the CPU then skips the entries.
-  table->SetComputeEntries(!(secondOrder && this->BuildOnGPU(context)));
+  // A GPU build integrates from what Update() prepares; the CPU then skips the entries. The
+  // GPU builder integrates colours, not moments: shaded tables are built on the CPU.
+  table->SetComputeEntries(!(secondOrder && layers == 0 && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
@@ -364,7 +369,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* vol)
 {
   vtkVolumeShadingModel* model = this->ShadingModel;
-  this->LastFrameShaded = this->Integration == FIRST_ORDER && vol->GetProperty()->GetShade(0);
+  this->LastFrameShaded = this->Integration != STOCK && vol->GetProperty()->GetShade(0);
   std::string switches;
   int layers = 0;
   if (this->LastFrameShaded)
@@ -389,7 +394,8 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
     const bool normals = this->NormalArrayName && *this->NormalArrayName;
     switches = std::string("#define HOVR_NORMALS ") + (normals ? "1" : "0") +
       "\n#define HOVR_LAYERS " + std::to_string(layers) + "\n#define HOVR_INTERPOLATION " +
-      std::to_string(mode) + "\n#define HOVR_GOOCH " + (model->GetGooch() ? "1" : "0") + "\n";
+      std::to_string(mode) + "\n#define HOVR_GOOCH " + (model->GetGooch() ? "1" : "0") + "\n" +
+      (this->Integration == SECOND_ORDER ? "#define HOVR_SLABS 1\n" : "");
   }
   if (switches != this->ShadingSwitches)
   {
@@ -458,12 +464,18 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
 {
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
-  // Second order is a 3D texture; the moment layers of shaded first order lie one above the
-  // other in a 2D one, which must hold their chord axes together.
-  const int layers = secondOrder ? 1 : std::max(table->GetMoments(), 1);
+  // Second order is a 3D texture, whose shaded moment layers (both halves of a slab) lie one
+  // behind the other along its depth: the deviation axis holds them all, the other axes get
+  // the full limit. The moment layers of shaded first order lie one above the other in a 2D
+  // one, every axis limited as the stacked one (the sizer has one limit for all axes).
+  const int layers = secondOrder ? (table->GetSlabMoments() > 0 ? 2 * table->GetSlabMoments() : 1)
+                                 : std::max(table->GetMoments(), 1);
   const int maxSize = secondOrder ? vtkTextureObject::GetMaximumTextureSize3D(context)
                                   : vtkTextureObject::GetMaximumTextureSize(context) / layers;
   const int limit = std::min(maxSize > 0 ? maxSize : 2048, MaximumAxisSize);
+  // The largest odd deviation size (an entry at deviation 0) whose layers fit the depth.
+  const int stacked = (maxSize > 0 ? maxSize : 2048) / layers;
+  const int deviationLimit = std::max(std::min(limit, stacked - (stacked + 1) % 2), 1);
   const bool measurePrefilter =
     this->TablePrefilter == PREFILTER_AUTOMATIC && !secondOrder && this->TableSize == 0;
   if (!measurePrefilter)
@@ -483,7 +495,14 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     table->SetTableSize(size);
     table->SetChordSize(size);
     table->SetChordRange(0.0);
-    table->SetDeviationSize(secondOrder ? size : 1);
+    if (secondOrder && size > deviationLimit)
+    {
+      vtkWarningMacro("Table size " << size << ": " << layers << " moment layers of " << size
+                                    << " deviation entries exceed the 3D texture depth " << maxSize
+                                    << "; the deviation axis gets " << deviationLimit
+                                    << " entries.");
+    }
+    table->SetDeviationSize(secondOrder ? std::min(size, deviationLimit) : 1);
     table->SetDeviationRange(0.0);
     this->TableSizeKey.clear();
     return true;
@@ -522,8 +541,10 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   {
     return true;
   }
-  this->TableSizer->SetMaximumMemory(this->TableMemoryLimit);
-  this->TableSizer->SetBytesPerEntry(bytes[precision]);
+  // The sizer takes at most 64 bytes per entry, fewer than 5 or 10 float layers hold: it
+  // sizes one layer within the limit's share of one layer.
+  this->TableSizer->SetMaximumMemory(std::max(this->TableMemoryLimit / layers, 1024.0));
+  this->TableSizer->SetBytesPerEntry(bytes[precision] / layers);
   this->TableSizer->SetMaximumAxisSize(limit);
   this->TableSizer->SetOpacityThreshold(this->OpacityThreshold);
   this->TableSizer->SetMeasurePrefilter(measurePrefilter);
@@ -531,6 +552,10 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   {
     vtkErrorMacro("No pre-integration table could be sized; not drawing.");
     return false;
+  }
+  if (secondOrder)
+  {
+    table->SetDeviationSize(std::min(table->GetDeviationSize(), deviationLimit));
   }
   this->TableSizeKey = key;
   return true;
@@ -705,10 +730,11 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
   const int nb = table->GetChordSize();
   const int nd = table->GetDeviationSize();
   // First order reads a 2D texture over (centre, chord), shaded first order one whose rows
-  // hold the moment layers one above the other, second order a 3D one.
+  // hold the moment layers one above the other, second order a 3D one (shaded: the slab
+  // moment layers one behind the other).
   const int layers = table->GetNumberOfLayers();
   const bool volume = this->Integration == SECOND_ORDER;
-  const int depth = nd;
+  const int depth = nd * layers;
   const int rows = nb * layers;
   static const unsigned int formats[4] = { GL_RGBA32F, GL_RGBA8, GL_RGBA16F, GL_RGBA32F };
   static const int bytes[4] = { 4, 1, 2, 4 };
@@ -822,10 +848,9 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
       switches + hovrPreIntegrationCommon +
-        (this->Integration == SECOND_ORDER
-            ? std::string(hovrSlabExtremum) + hovrPreIntegration2
-            : (shaded ? std::string(hovrPreIntegrationShading) : std::string()) +
-              hovrPreIntegration1),
+        (shaded ? std::string(hovrPreIntegrationShading) : std::string()) +
+        (this->Integration == SECOND_ORDER ? std::string(hovrSlabExtremum) + hovrPreIntegration2
+                                           : std::string(hovrPreIntegration1)),
       shaded ? Self::AfterTag : Self::BeforeTag);
   if (!ok)
   {
@@ -881,6 +906,11 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
   }
   program->SetUniformf(
     "hovr_chordTexels", static_cast<float>(this->GetActiveTable()->GetChordSize()));
+  if (this->Integration == SECOND_ORDER)
+  {
+    program->SetUniformf(
+      "hovr_deviationTexels", static_cast<float>(this->GetActiveTable()->GetDeviationSize()));
+  }
   program->SetUniformi("hovr_numberOfLights", count);
   program->SetUniform3fv("hovr_lightDirection", MaximumLights, direction);
   program->SetUniform3fv("hovr_lightDiffuse", MaximumLights, diffuse);

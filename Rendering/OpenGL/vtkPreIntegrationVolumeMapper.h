@@ -27,18 +27,27 @@
  * rays through the volume, the least memory within 2% of the best error) unless TableSize is
  * set, and its storage precision follows its order unless TablePrecision is set.
  *
- * Shading (the volume property's Shade on) is pre-integrated too, for first order: Guetat et
- * al. 2010's shaded pre-integration, Blinn-Phong with the paper's cone for the specular term
- * or Gooch shading, from moment layers of the first-order table (vtkSecondOrderPreIntegration-
- * Table::Moments) and the normals at both ends of each segment, interpolated as
+ * Shading (the volume property's Shade on) is pre-integrated too: Guetat et al. 2010's shaded
+ * pre-integration, Blinn-Phong with the paper's cone for the specular term or Gooch shading,
+ * from moment layers of the table and the normals at the samples, interpolated as
  * GradientInterpolation says; the lighting model is vtkVolumeShadingModel, with the
  * renderer's directional lights (several are summed) and its two-sided lighting flag. Normals
  * are VTK's: the normalised central-difference gradient of the scalar texture.
+ *   - First order: the moment layers of the first-order table (vtkSecondOrderPreIntegration-
+ *     Table::Moments) and the normals at both ends of each segment.
+ *   - Second order: the slab moment layers of the 3D table (vtkSecondOrderPreIntegrationTable::
+ *     SlabMoments: the moments of each half slab, the scalar on the slab's quadratic) and the
+ *     normals at the slab's three samples; each half is shaded between the normals at its
+ *     ends (front and middle, middle and back), so the normal follows the same arcs as first
+ *     order at the same sample distance while the scalar follows the quadratic. The table
+ *     holds twice first order's layers per entry (4 for constant and linear interpolation, 10
+ *     for non-linear, 8 for non-linear Gooch), counted in TableMemoryLimit and in the 3D
+ *     texture's depth, and is built on the CPU.
  *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
  * flag and start and end where VTK's ray does. Composite blending of one-component scalars
  * (RGB or grey colour) without enabled gradient opacity or 2D transfer functions is
- * pre-integrated, shaded or not (second order unshaded only), with directional lights only;
+ * pre-integrated, shaded or not, with directional lights only;
  * anything else is drawn by VTK's stock path after a warning. The sample
  * distance is fixed (automatic adjustment is off) and must be positive: otherwise an error is
  * reported and nothing is drawn.
@@ -123,8 +132,9 @@ public:
    * and (front, middle, back) of that size. 0 measures the sizes instead
    * (vtkPreIntegrationTableSizer, within TableMemoryLimit): the chord and deviation axes then
    * span only what the data produce at this step, and each axis gets the entries the image
-   * needs. Values above the OpenGL texture limits or 4097 are clamped with a warning. Initial
-   * value is 0.
+   * needs. Values above the OpenGL texture limits or 4097 are clamped with a warning (shaded
+   * second order: the deviation axis to what its moment layers leave of the 3D texture
+   * depth). Initial value is 0.
    */
   vtkSetClampMacro(TableSize, int, 0, 65536);
   vtkGetMacro(TableSize, int);
@@ -133,7 +143,9 @@ public:
   ///@{
   /**
    * The largest table the automatic sizes consider, in bytes of GPU memory at the table's
-   * precision. Initial value is 64 MiB.
+   * precision, every moment layer of a shaded table included (shaded second order stores 4 to
+   * 10 layers per entry, and needs a larger limit than unshaded second order for the same
+   * sizes). Initial value is 64 MiB.
    */
   vtkSetClampMacro(TableMemoryLimit, double, 1024.0, 1e12);
   vtkGetMacro(TableMemoryLimit, double);
@@ -155,7 +167,8 @@ public:
 
   ///@{
   /**
-   * Where the second-order table is built (the first-order table always on the CPU). A
+   * Where the second-order table is built (the first-order table and shaded tables always on
+   * the CPU). A
    * software OpenGL renderer runs the GPU pass on the CPU, slower than the CPU builder.
    * Initial value is BUILD_AUTOMATIC.
    */
@@ -274,7 +287,7 @@ public:
 
   ///@{
   /**
-   * Shaded first order: how the normal is interpolated between the two samples of a segment
+   * Shading: how the normal is interpolated between the two samples of a segment (or half slab)
    * (vtkVolumeShadingModel::GradientInterpolations: CONSTANT, LINEAR as Lum et al., NONLINEAR
    * as Guetat et al.). Initial value is NONLINEAR.
    */
@@ -284,7 +297,7 @@ public:
 
   ///@{
   /**
-   * Shaded first order: Gooch shading (Guetat et al.'s Eq. 11, tones and weights of
+   * Shading: Gooch shading (Guetat et al.'s Eq. 11, tones and weights of
    * GetShadingModel()) instead of Blinn-Phong. Initial value is false.
    */
   virtual void SetGooch(bool gooch);
@@ -294,7 +307,7 @@ public:
 
   ///@{
   /**
-   * Shaded first order: the point array of 3-component vectors to take as the normals
+   * Shading: the point array of 3-component vectors to take as the normals
    * (interpolated trilinearly and normalised), such as the output of vtkGradientExaggeration;
    * nullptr or empty: VTK's central-difference gradient of the scalar texture. The vectors are
    * in the data's coordinates (as vtkImageGradient's) and uploaded as a float texture (12
@@ -351,7 +364,7 @@ protected:
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkRenderer* ren, vtkVolume* vol, vtkDataArray* scalars);
   bool UploadTable(vtkRenderer* ren);
-  // Takes the lighting of a shaded first-order frame (lights from the renderer, coefficients
+  // Takes the lighting of a shaded frame (lights from the renderer, coefficients
   // from the property) and sets the GLSL's shading switches: the moment layers the table
   // needs (0 unshaded), or -1 after an error (nothing can be drawn).
   int PrepareShading(vtkRenderer* ren, vtkVolume* vol);

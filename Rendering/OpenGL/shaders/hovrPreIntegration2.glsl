@@ -19,15 +19,45 @@
 //
 // Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
 // vtkPreIntegrationVolumeMapper, which calls hovr_preintInit, hovr_preintStep and
-// hovr_preintExit where VTK's shading code would initialise, sample and finish a ray.
+// hovr_preintExit where VTK's shading code would initialise, sample and finish a ray. With
+// HOVR_SHADED, the slab's colour comes from the normals at its three samples as well.
 
-uniform sampler3D hovr_preintTable;
 // Deviation coordinate of a difference of centre-axis coordinates (0 at 1/2).
 uniform float hovr_deviationScale;
+
+#if !HOVR_SHADED
+uniform sampler3D hovr_preintTable;
+
+vec3 hovr_normalAt(vec3 pos)
+{
+  return vec3(0.0);
+}
+
+vec4 hovr_slab(float sf, float sm, float sb, vec3 nf, vec3 nm, vec3 nb)
+{
+  float centre = 0.5 * (sf + sb);
+  return texture(hovr_preintTable,
+    vec3(centre, 0.5 + (sb - sf) * hovr_chordScale, 0.5 + (sm - centre) * hovr_deviationScale));
+}
+#else
+// Shaded (hovrPreIntegrationShading.glsl, inserted before, with HOVR_SLABS): each half slab
+// is shaded as a first-order segment between the normals at its ends, (front, middle) and
+// (middle, back), from its own moment layers; the arc passes through the middle normal. The
+// two halves' colours and opacities add up to the slab's.
+vec4 hovr_slab(float sf, float sm, float sb, vec3 nf, vec3 nm, vec3 nb)
+{
+  float centre = 0.5 * (sf + sb);
+  vec3 coord =
+    vec3(centre, 0.5 + (sb - sf) * hovr_chordScale, 0.5 + (sm - centre) * hovr_deviationScale);
+  return hovr_shade(0, coord, nf, nm) + hovr_shade(HOVR_LAYERS, coord, nm, nb);
+}
+#endif
+
 // hovr_emptyRuns, hovr_tableSize, hovr_rawToTable, hovr_tableCoord, hovr_emptyRun and
 // hovr_stepsToExit: hovrPreIntegrationCommon.glsl.
 
 float hovr_sFront;      // table coordinate of the slab's front sample
+vec3 hovr_nFront;       // its normal (shaded only)
 float hovr_runFront;    // its zero-opacity run
 float hovr_frontIndex;  // its position in sample distances from the first sample
 vec3 hovr_frontPos;     // and in texture coordinates
@@ -47,16 +77,15 @@ bool hovr_slabIsEmpty(float sf, float sm, float sb, float runFront, float runBac
   return !hovr_slabExtremum(sf, b, a, extremum) || hovr_emptyRun(extremum) == runFront;
 }
 
-// Composite the slab (sf, sm, sb) covering `fraction` of the table's slab length.
-void hovr_compositeSlab(float sf, float sm, float sb, float fraction)
+// Composite the slab (sf, sm, sb) with normals (nf, nm, nb) covering `fraction` of the
+// table's slab length.
+void hovr_compositeSlab(float sf, float sm, float sb, vec3 nf, vec3 nm, vec3 nb, float fraction)
 {
   if (!(fraction > 0.0) || isnan(sf) || isnan(sm) || isnan(sb))
   {
     return;
   }
-  float centre = 0.5 * (sf + sb);
-  vec4 slab = texture(hovr_preintTable,
-    vec3(centre, 0.5 + (sb - sf) * hovr_chordScale, 0.5 + (sm - centre) * hovr_deviationScale));
+  vec4 slab = hovr_slab(sf, sm, sb, nf, nm, nb);
   if (fraction < 1.0)
   {
     float alpha = 1.0 - pow(max(1.0 - slab.a, 0.0), fraction);
@@ -68,17 +97,21 @@ void hovr_compositeSlab(float sf, float sm, float sb, float fraction)
 
 // A piece shorter than a slab from `from`, `steps` sample distances long: its midpoint and
 // end are fetched, then it is composited as a slab scaled to its length.
-void hovr_compositePiece(vec3 from, float sFrom, float steps)
+void hovr_compositePiece(vec3 from, float sFrom, vec3 nFrom, float steps)
 {
   if (steps > 0.0)
   {
-    hovr_compositeSlab(sFrom, hovr_tableCoord(from + 0.5 * steps * g_dirStep),
-      hovr_tableCoord(from + steps * g_dirStep), 0.5 * steps);
+    vec3 middle = from + 0.5 * steps * g_dirStep, end = from + steps * g_dirStep;
+    hovr_compositeSlab(sFrom, hovr_tableCoord(middle), hovr_tableCoord(end), nFrom,
+      hovr_normalAt(middle), hovr_normalAt(end), 0.5 * steps);
   }
 }
 
 void hovr_preintInit()
 {
+#if HOVR_SHADED
+  hovr_view = -computeRayDirection();
+#endif
   vec3 entry = g_dataPos - g_rayJitter;
   float jitter = length(g_rayJitter) / length(g_dirStep);
   hovr_endIndex = min(hovr_stepsToExit(entry) - jitter, g_terminatePointMax);
@@ -87,6 +120,7 @@ void hovr_preintInit()
   {
     // The first sample lies one step inside: the entry is the first slab's front.
     hovr_sFront = sEntry;
+    hovr_nFront = hovr_normalAt(entry);
     hovr_frontPos = entry;
     hovr_frontIndex = -1.0;
   }
@@ -94,8 +128,10 @@ void hovr_preintInit()
   {
     // Jittered: the piece before the first sample on its own, then slabs from that sample,
     // whose middle is the next one.
-    hovr_compositePiece(entry, sEntry, min(jitter, hovr_endIndex + jitter));
+    hovr_compositePiece(
+      entry, sEntry, hovr_normalAt(entry), min(jitter, hovr_endIndex + jitter));
     hovr_sFront = hovr_tableCoord(g_dataPos);
+    hovr_nFront = hovr_normalAt(g_dataPos);
     hovr_frontPos = g_dataPos;
     hovr_frontIndex = 0.0;
     g_dataPos += g_dirStep;
@@ -114,6 +150,7 @@ void hovr_preintStep()
   float sMiddle = hovr_tableCoord(g_dataPos);
   vec3 backPos = g_dataPos + g_dirStep;
   float sBack = hovr_tableCoord(backPos);
+  vec3 nBack = hovr_normalAt(backPos);
   float runBack = hovr_emptyRun(sBack);
   // Both ends and the extremum in one zero-opacity run: the slab is empty, no table fetch.
 #if HOVR_SKIP_EMPTY
@@ -122,9 +159,11 @@ void hovr_preintStep()
   if (!g_skip)
 #endif
   {
-    hovr_compositeSlab(hovr_sFront, sMiddle, sBack, 1.0);
+    hovr_compositeSlab(
+      hovr_sFront, sMiddle, sBack, hovr_nFront, hovr_normalAt(g_dataPos), nBack, 1.0);
   }
   hovr_sFront = sBack;
+  hovr_nFront = nBack;
   hovr_runFront = runBack;
   hovr_frontPos = backPos;
   hovr_frontIndex += 2.0;
@@ -140,5 +179,6 @@ void hovr_preintExit()
     return;
   }
   // What lies between the last slab's back and the ray's end is less than a slab.
-  hovr_compositePiece(hovr_frontPos, hovr_sFront, min(hovr_endIndex - hovr_frontIndex, 2.0));
+  hovr_compositePiece(
+    hovr_frontPos, hovr_sFront, hovr_nFront, min(hovr_endIndex - hovr_frontIndex, 2.0));
 }

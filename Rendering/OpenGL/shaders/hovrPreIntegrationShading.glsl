@@ -1,20 +1,30 @@
-// hovr: shaded first-order pre-integration with non-linear gradient interpolation (Guetat,
-// Ancel, Marchesin and Dischler 2010). A segment's shaded colour is a sum of 2D moment tables
-// (J_0..J_3 of the colour-weighted and of the plain extinction, layers of the 3D texture
-// hovr_preintTable over (chord centre, chord)) weighted by dot products of the normals
-// at its two ends with each light's direction and half vector. The layers lie one above the
-// other in the 2D texture hovr_preintTable (centre along x; layer, then chord along y), so a
-// fetch filters bilinearly within its layer. The GLSL mirror of
+// hovr: shaded pre-integration with non-linear gradient interpolation (Guetat, Ancel,
+// Marchesin and Dischler 2010), for first-order segments and second-order slabs. A segment's
+// shaded colour is a sum of moment tables (J_0..J_3 of the colour-weighted and of the plain
+// extinction, layers of the table hovr_preintTable) weighted by dot products of the normals
+// at its two ends with each light's direction and half vector. First order: the layers lie
+// one above the other in the 2D texture hovr_preintTable (centre along x; layer, then chord
+// along y), so a fetch filters bilinearly within its layer. The GLSL mirror of
 // vtkVolumeShadingModel::ShadeSegment(), operation for operation.
 //
 // Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2, 4 or 5 moment layers),
 // HOVR_INTERPOLATION (0 constant, 1 linear, 2 non-linear), HOVR_GOOCH (Eq. 11 instead of
 // Blinn-Phong), HOVR_NORMALS (normals from the texture hovr_normals instead of VTK's
 // normalised central-difference gradient, computeGradient), both in the volume's object
-// coordinates, where the lights are given.
+// coordinates, where the lights are given. HOVR_SLABS (second order, hovrPreIntegration2.glsl):
+// the table is 3D over (chord centre, chord, deviation) and holds 2 HOVR_LAYERS layers one
+// behind the other along its depth, the moments of each half slab (hovr_shade() with base 0
+// and HOVR_LAYERS); without it, hovr_segment() shades a first-order segment.
 
+#ifdef HOVR_SLABS
+uniform sampler3D hovr_preintTable;
+uniform float hovr_deviationTexels; // deviation entries per layer
+#define hovr_tableCoord_t vec3
+#else
 uniform sampler2D hovr_preintTable;
 uniform float hovr_chordTexels; // chord entries per layer
+#define hovr_tableCoord_t vec2
+#endif
 uniform int hovr_numberOfLights;
 uniform vec3 hovr_lightDirection[8]; // towards the light
 uniform vec3 hovr_lightDiffuse[8];
@@ -44,13 +54,23 @@ vec3 hovr_normalAt(vec3 pos)
   return len > 0.0 ? g / len : vec3(0.0);
 }
 
-// The chord coordinate is clamped to the layer's outer texel centres, where a single-layer
-// texture's clamp-to-edge would hold it, so that no fetch blends two layers.
+// The stacked coordinate (chord; deviation for slabs) is clamped to the layer's outer texel
+// centres, where a single-layer texture's clamp-to-edge would hold it, so that no fetch
+// blends two layers.
+#ifdef HOVR_SLABS
+vec4 hovr_layer(int l, vec3 coord)
+{
+  float z = clamp(coord.z, 0.5 / hovr_deviationTexels, 1.0 - 0.5 / hovr_deviationTexels);
+  return texture(
+    hovr_preintTable, vec3(coord.xy, (float(l) + z) / float(2 * HOVR_LAYERS)));
+}
+#else
 vec4 hovr_layer(int l, vec2 coord)
 {
   float y = clamp(coord.y, 0.5 / hovr_chordTexels, 1.0 - 0.5 / hovr_chordTexels);
   return texture(hovr_preintTable, vec2(coord.x, (float(l) + y) / float(HOVR_LAYERS)));
 }
+#endif
 
 // N . d as a side is lit by it.
 float hovr_side(float x)
@@ -130,16 +150,16 @@ bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
 }
 #endif
 
-// The shaded segment (premultiplied RGB, opacity) between scalars sFront and sBack (centre-
-// axis coordinates) with unit (or zero) normals nFront and nBack.
-vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
+// The shaded segment (premultiplied RGB, opacity) whose moments are the layers base ..
+// base + HOVR_LAYERS - 1 at table coordinate coord, with unit (or zero) normals nFront and
+// nBack at its ends.
+vec4 hovr_shade(int base, hovr_tableCoord_t coord, vec3 nFront, vec3 nBack)
 {
-  vec2 coord = vec2(0.5 * (sFront + sBack), 0.5 + (sBack - sFront) * hovr_chordScale);
-  vec4 J0 = hovr_layer(0, coord);
-  vec4 J1 = hovr_layer(1, coord);
+  vec4 J0 = hovr_layer(base, coord);
+  vec4 J1 = hovr_layer(base + 1, coord);
 #if HOVR_LAYERS > 2
-  vec4 J2 = hovr_layer(2, coord);
-  vec4 J3 = hovr_layer(3, coord);
+  vec4 J2 = hovr_layer(base + 2, coord);
+  vec4 J3 = hovr_layer(base + 3, coord);
 #else
   vec4 J2 = vec4(0.0);
   vec4 J3 = vec4(0.0);
@@ -214,7 +234,7 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
         if (!upFront && !upBack && max(fh, bh) * (1.0 + 0.25 * m) > threshold &&
           hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
         {
-          specular = hovr_cone(peak) * hovr_layer(4, coord).r;
+          specular = hovr_cone(peak) * hovr_layer(base + 4, coord).r;
         }
       }
 #endif
@@ -226,3 +246,12 @@ vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
 #endif
   return vec4(rgb, I0.a);
 }
+
+#ifndef HOVR_SLABS
+// The shaded first-order segment between scalars sFront and sBack (centre-axis coordinates).
+vec4 hovr_segment(float sFront, float sBack, vec3 nFront, vec3 nBack)
+{
+  return hovr_shade(
+    0, vec2(0.5 * (sFront + sBack), 0.5 + (sBack - sFront) * hovr_chordScale), nFront, nBack);
+}
+#endif
