@@ -38,22 +38,6 @@ vtkStandardNewMacro(vtkAdaptiveRayVolumeMapper);
 
 namespace
 {
-// Whether a piecewise function is 1 at every node (so everywhere: VTK clamps outside them).
-bool IsConstantOne(vtkPiecewiseFunction* function)
-{
-  const int n = function ? function->GetSize() : 0;
-  double node[4];
-  for (int i = 0; i < n; ++i)
-  {
-    function->GetNodeValue(i, node);
-    if (node[1] != 1.0)
-    {
-      return false;
-    }
-  }
-  return n > 0;
-}
-
 // Table memory above which the layers are stored in 16-bit floats, and the most in any case.
 constexpr double Float32TableLimit = 64.0 * 1024.0 * 1024.0;
 constexpr double TableMemoryLimit = 256.0 * 1024.0 * 1024.0;
@@ -113,6 +97,22 @@ void vtkAdaptiveRayVolumeMapper::SetMaximumLevel(int level)
   if (level != this->MaximumLevel)
   {
     this->MaximumLevel = level;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveRayVolumeMapper::SetReconstruction(int reconstruction)
+{
+  if (reconstruction != RECONSTRUCTION_TRILINEAR &&
+    reconstruction != RECONSTRUCTION_TRICUBIC_BSPLINE)
+  {
+    vtkWarningMacro("Reconstruction " << reconstruction << " is unknown; using trilinear.");
+    reconstruction = RECONSTRUCTION_TRILINEAR;
+  }
+  if (reconstruction != this->Reconstruction)
+  {
+    this->Reconstruction = reconstruction;
     this->Modified();
   }
 }
@@ -326,9 +326,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   {
     this->ClearEmptyWarning();
   }
-  int size = this->TableSize > 0
-    ? this->TableSize
-    : vtkPreIntegrationTable::SuggestTableSize(scalars->GetDataType(), range, sampler, 64, 256);
+  // 256 entries unless set: fewer, chosen from the transfer function's narrowest feature, blur
+  // the integrals of long, opaque segments even under smooth transfer functions.
+  int size = this->TableSize > 0 ? this->TableSize : 256;
   // The layers are tiles of one 2D texture, columns x rows of them (bilinear lookups: a 3D
   // texture would filter 8 texels per lookup instead of 4).
   const int columns = 1 << ((static_cast<int>(std::log2(layers)) + 1) / 2);
@@ -428,9 +428,14 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   this->EffectiveTableSize = size;
   this->NumberOfTables = layers;
 
+  // 8-bit data go up as 16-bit copies of the same values (finer interpolation); the table
+  // mapping follows the texture's type.
+  vtkDataArray* widened = this->WidenedTextureScalars(scalars);
+  this->SetTextureScalars(widened);
   // raw texture value -> data value -> table texture coordinate (entries at texel centres).
   double scale, shift;
-  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(scalars, scale, shift);
+  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(
+    widened ? widened : scalars, scale, shift);
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   internal.RawToTable[0] = static_cast<float>(scale * toIndex / size);
   internal.RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
@@ -482,7 +487,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   const std::string switches = std::string("#define HOVR_ORACLE ") +
     (internal.UseOracle ? "1" : "0") + "\n#define HOVR_COUNT_SAMPLES " +
     (internal.CountingThisFrame ? "1" : "0") + "\n#define HOVR_TILES " + (layers > 1 ? "1" : "0") +
-    "\n";
+    "\n#define HOVR_TRICUBIC " +
+    (this->Reconstruction == RECONSTRUCTION_TRICUBIC_BSPLINE ? "1" : "0") + "\n";
   if (switches != internal.Switches)
   {
     internal.Switches = switches;
@@ -632,6 +638,9 @@ void vtkAdaptiveRayVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "MaximumLevel: " << this->MaximumLevel << "\n";
   os << indent << "OracleMode: " << (this->OracleMode == ORACLE_ARRAY ? "ARRAY" : "MINIMUM")
+     << "\n";
+  os << indent << "Reconstruction: "
+     << (this->Reconstruction == RECONSTRUCTION_TRILINEAR ? "TRILINEAR" : "TRICUBIC_BSPLINE")
      << "\n";
   os << indent << "OracleArrayName: " << (this->OracleArrayName ? this->OracleArrayName : "(none)")
      << "\n";

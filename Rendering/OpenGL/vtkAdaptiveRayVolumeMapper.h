@@ -30,6 +30,21 @@
  *     ray's entry to its first slice and from its last sample to its exit or termination point
  *     take the table of the next whole number of slices and rescale its optical depth to their
  *     length (exact for a constant scalar), as vtkPreIntegrationVolumeMapper does.
+ * The scalar field sampled along the rays is chosen by Reconstruction: VTK's trilinear
+ * interpolation (one texture fetch a sample), or the cubic B-spline approximation of the data
+ * (Sigg and Hadwiger, "Fast Third-Order Texture Filtering", GPU Gems 2, chapter 20: eight
+ * trilinear fetches a sample), an expensive sampler with which each skipped sample saves
+ * more. The B-spline's values are convex combinations of the data, so they stay within the
+ * data range and the tables are those of the trilinear field; it does not interpolate the
+ * data (it smooths them) but reproduces linear functions exactly. At the borders the volume
+ * texture clamps to the edge: the data continue as the values of the outermost points, so
+ * within one voxel of a face the B-spline blends in those copies (and a linear function is
+ * reproduced only farther inside). The oracle is always read with one trilinear fetch.
+ *
+ * 8-bit scalars are uploaded as a 16-bit copy of the same values
+ * (vtkExtensibleGPUVolumeRayCastMapper::WidenedTextureScalars), since some OpenGL
+ * implementations interpolate 8-bit textures at 8-bit precision.
+ *
  * Early ray termination is VTK's (opacity above 1 - 1/255). With OracleMode MINIMUM the image
  * is first-order pre-integration at step Delta on the slice grid: the same as
  * vtkPreIntegrationVolumeMapper's where VTK's samples fall on the slices (a parallel camera
@@ -41,7 +56,7 @@
  * table of one slice.
  *
  * With CountSamples on, an atomic counter (GL_ARB_shader_atomic_counters) counts the slice
- * samples of each frame (a volume fetch each, and an oracle fetch unless d = 1 everywhere; the
+ * samples of each frame (a volume sample each, and an oracle fetch unless d = 1 everywhere; the
  * entry and end points of each ray are not counted) and GetLastFrameSampleCount() reports it.
  *
  * Limitations and fallbacks:
@@ -83,6 +98,27 @@ public:
     ORACLE_MINIMUM = 1 ///< d = 1 everywhere (the paper's "min." oracle)
   };
 
+  enum Reconstructions
+  {
+    RECONSTRUCTION_TRILINEAR = 0,       ///< VTK's trilinear interpolation, one fetch a sample
+    RECONSTRUCTION_TRICUBIC_BSPLINE = 1 ///< the cubic B-spline approximation, eight fetches
+  };
+
+  ///@{
+  /**
+   * The reconstruction of the scalar field from the data points at each sample (the volume's
+   * samples only: the oracle is trilinear). An unknown value gives a warning and
+   * RECONSTRUCTION_TRILINEAR. Initial value is RECONSTRUCTION_TRILINEAR.
+   */
+  virtual void SetReconstruction(int reconstruction);
+  vtkGetMacro(Reconstruction, int);
+  void SetReconstructionToTrilinear() { this->SetReconstruction(RECONSTRUCTION_TRILINEAR); }
+  void SetReconstructionToTricubicBSpline()
+  {
+    this->SetReconstruction(RECONSTRUCTION_TRICUBIC_BSPLINE);
+  }
+  ///@}
+
   ///@{
   /**
    * The largest level l_max: sampling distances reach 2^MaximumLevel slices (line 78; the
@@ -114,10 +150,8 @@ public:
 
   ///@{
   /**
-   * Entries per scalar axis of each table. 0 chooses the size with
-   * vtkPreIntegrationTable::SuggestTableSize (one entry per value of 8- and 16-bit data,
-   * entries across the narrowest transfer-function feature otherwise), between 64 and 256
-   * (the build time grows as the cube of the size, times the number of tables). Tables whose
+   * Entries per scalar axis of each table. 0 chooses 256 (one entry per value of 8-bit data;
+   * the build time grows as the cube of the size, times the number of tables). Tables whose
    * layers would exceed 64 MiB in 32-bit floats are stored in 16-bit floats, and their size
    * is reduced with a warning beyond 256 MiB or the OpenGL texture limit. Initial value is 0.
    */
@@ -193,6 +227,7 @@ protected:
 
   int MaximumLevel = 3;
   int OracleMode = ORACLE_ARRAY;
+  int Reconstruction = RECONSTRUCTION_TRILINEAR;
   char* OracleArrayName = nullptr;
   int TableSize = 0;
   double MaximumSamplesPerRay = 1e5;

@@ -8,13 +8,16 @@
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderPass.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
 #include "vtkVolume.h"
 #include "vtkVolumeImageAlgorithm.h"
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <string>
 
 //------------------------------------------------------------------------------
@@ -83,6 +86,7 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
   this->Hook->Mapper = nullptr;
   this->Hook->Delete();
   this->SetTextureScalars(nullptr);
+  this->WidenedTextureScalars(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -320,4 +324,142 @@ double* vtkExtensibleGPUVolumeRayCastMapper::GetBounds()
   vtkVolumeImageAlgorithm::ReportGeometry(
     this, vtkImageData::SafeDownCast(this->GetDataSetInput()), this->ReportedBoundsTime);
   return bounds;
+}
+
+namespace
+{
+// Copies the values of an array into a wider type, in parallel.
+template <typename Out>
+struct WideningCopier
+{
+  vtkDataArray* In;
+  Out* Values;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    // Only 8- and 16-bit integers are widened; they have a standard memory layout.
+    void* raw = this->In->GetVoidPointer(0);
+    switch (this->In->GetDataType())
+    {
+      case VTK_UNSIGNED_CHAR:
+        this->Copy(static_cast<const unsigned char*>(raw), begin, end);
+        break;
+      case VTK_SIGNED_CHAR:
+        this->Copy(static_cast<const signed char*>(raw), begin, end);
+        break;
+      case VTK_CHAR:
+        this->Copy(static_cast<const char*>(raw), begin, end);
+        break;
+      case VTK_UNSIGNED_SHORT:
+        this->Copy(static_cast<const unsigned short*>(raw), begin, end);
+        break;
+      case VTK_SHORT:
+        this->Copy(static_cast<const short*>(raw), begin, end);
+        break;
+    }
+  }
+  template <typename In>
+  void Copy(const In* in, vtkIdType begin, vtkIdType end) const
+  {
+    std::copy(in + begin, in + end, this->Values + begin);
+  }
+};
+
+template <typename Out>
+void CopyWidened(vtkDataArray* in, vtkDataArray* out)
+{
+  WideningCopier<Out> copier{ in, static_cast<Out*>(out->GetVoidPointer(0)) };
+  vtkSMPTools::For(0, in->GetNumberOfTuples(), copier);
+}
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkExtensibleGPUVolumeRayCastMapper::WidenedTextureScalars(vtkDataArray* scalars,
+  int wideType)
+{
+  const int type = scalars ? scalars->GetDataType() : VTK_VOID;
+  const bool eightBit = type == VTK_UNSIGNED_CHAR || type == VTK_SIGNED_CHAR || type == VTK_CHAR;
+  const bool sixteenBit = type == VTK_UNSIGNED_SHORT || type == VTK_SHORT;
+  int copyType = VTK_VOID; // no copy
+  if (wideType == VTK_FLOAT && (eightBit || sixteenBit))
+  {
+    copyType = VTK_FLOAT;
+  }
+  else if (wideType != VTK_FLOAT && eightBit)
+  {
+    copyType = type == VTK_UNSIGNED_CHAR ? VTK_UNSIGNED_SHORT : VTK_SHORT;
+  }
+  if (copyType == VTK_VOID || !scalars->HasStandardMemoryLayout() ||
+    scalars->GetNumberOfComponents() != 1)
+  {
+    if (this->WidenedScalars)
+    {
+      this->WidenedScalars->Delete(); // no longer wanted
+    }
+    this->WidenedScalars = nullptr;
+    this->WidenedSource = nullptr;
+    return nullptr;
+  }
+  if (this->WidenedScalars && this->WidenedSource == scalars &&
+    this->WidenedSourceTime == scalars->GetMTime() &&
+    this->WidenedScalars->GetDataType() == copyType)
+  {
+    return this->WidenedScalars;
+  }
+  if (this->WidenedScalars)
+  {
+    this->WidenedScalars->Delete();
+    this->WidenedScalars = nullptr;
+    this->WidenedSource = nullptr;
+  }
+  const vtkIdType values = scalars->GetNumberOfTuples();
+  vtkDataArray* copy = vtkDataArray::CreateDataArray(copyType);
+  copy->SetName(scalars->GetName());
+  bool ok = false;
+  try
+  {
+    copy->SetNumberOfValues(values);
+    ok = copy->GetNumberOfValues() == values;
+  }
+  catch (const std::bad_alloc&)
+  {
+  }
+  if (!ok)
+  {
+    copy->Delete();
+    vtkWarningMacro("Not enough memory for a "
+      << (copyType == VTK_FLOAT ? 32 : 16) << "-bit copy of the volume ("
+      << values * (copyType == VTK_FLOAT ? 4 : 2) << " bytes); uploading the data as it is.");
+    return nullptr;
+  }
+  switch (copyType)
+  {
+    case VTK_FLOAT:
+      CopyWidened<float>(scalars, copy);
+      break;
+    case VTK_SHORT:
+      CopyWidened<short>(scalars, copy);
+      break;
+    default:
+      CopyWidened<unsigned short>(scalars, copy);
+  }
+  this->WidenedScalars = copy;
+  this->WidenedSource = scalars;
+  this->WidenedSourceTime = scalars->GetMTime();
+  return copy;
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::IsConstantOne(vtkPiecewiseFunction* function)
+{
+  const int n = function ? function->GetSize() : 0;
+  double node[4];
+  for (int i = 0; i < n; ++i)
+  {
+    function->GetNodeValue(i, node);
+    if (node[1] != 1.0)
+    {
+      return false;
+    }
+  }
+  return n > 0;
 }

@@ -32,6 +32,7 @@
 #include <string> // For std::string
 
 class vtkGPURayCastShaderHook;
+class vtkPiecewiseFunction;
 class vtkShaderProgram;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkExtensibleGPUVolumeRayCastMapper
@@ -149,6 +150,29 @@ protected:
   vtkDataArray* GetTextureScalars() { return this->TextureScalars; }
 
   /**
+   * A copy of 8-bit scalars in 16 bits for VTK to upload as the volume texture (pass it to
+   * SetTextureScalars()), or nullptr when the scalars need none: OpenGL implementations such
+   * as Mesa's llvmpipe interpolate 8-bit textures at 8-bit precision, so the trilinear samples
+   * between two values are quantised to 1/255 of the range, which a 16-bit texture of the same
+   * values avoids. The copy holds the same values (unsigned char becomes unsigned short,
+   * signed char and char become short), so the data range, VTK's lookup tables and
+   * GetTextureValueMapping() of the copy stay right. With wideType VTK_FLOAT, 8- and 16-bit
+   * scalars are copied to 32-bit floats instead. Only single-component arrays in standard
+   * memory layout are copied; nullptr for any other array, for other types, for nullptr, and
+   * (after a warning) when the copy does not fit in memory. The copy is cached and made again
+   * only when the array, its modification time or wideType changes; a nullptr result releases
+   * it.
+   */
+  vtkDataArray* WidenedTextureScalars(vtkDataArray* scalars, int wideType = VTK_VOID);
+
+  /**
+   * Whether a piecewise function is 1 at every node, so everywhere (VTK clamps outside the
+   * nodes); false for nullptr or a function without nodes. A gradient opacity that is
+   * constant one does not change the image.
+   */
+  static bool IsConstantOne(vtkPiecewiseFunction* function);
+
+  /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
    */
   void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
@@ -173,6 +197,10 @@ private:
   friend class vtkGPURayCastShaderHook;
   vtkGPURayCastShaderHook* Hook;
   vtkDataArray* TextureScalars = nullptr;
+  // WidenedTextureScalars()' cached copy and what it was made from.
+  vtkDataArray* WidenedScalars = nullptr;
+  vtkDataArray* WidenedSource = nullptr;
+  vtkMTimeType WidenedSourceTime = 0;
 };
 
 #endif

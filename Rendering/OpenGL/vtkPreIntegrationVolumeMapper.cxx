@@ -40,22 +40,6 @@ vtkStandardNewMacro(vtkPreIntegrationVolumeMapper);
 
 namespace
 {
-// Whether a piecewise function is 1 at every node (so everywhere: VTK clamps outside them).
-bool IsConstantOne(vtkPiecewiseFunction* function)
-{
-  const int n = function ? function->GetSize() : 0;
-  double node[4];
-  for (int i = 0; i < n; ++i)
-  {
-    function->GetNodeValue(i, node);
-    if (node[1] != 1.0)
-    {
-      return false;
-    }
-  }
-  return n > 0;
-}
-
 // The most entries along a table axis: a 4097-entry axis already resolves 1/4096 of the range.
 constexpr int MaximumAxisSize = 4097;
 // The most directional lights a shaded frame sums (the GLSL's array size).
@@ -87,10 +71,6 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->EmptyRunsTexture->Delete();
   this->NormalTexture->Delete();
   this->SetNormalArrayName(nullptr);
-  if (this->ScalarsCopy)
-  {
-    this->ScalarsCopy->Delete();
-  }
 }
 
 //------------------------------------------------------------------------------
@@ -562,130 +542,27 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-// Copies 8- or 16-bit integers into a wider type, value for value.
-template <typename Out>
-struct ScalarsCopier
-{
-  vtkDataArray* In;
-  Out* Values;
-  template <typename In>
-  void Copy(const In* in, vtkIdType begin, vtkIdType end) const
-  {
-    std::copy(in + begin, in + end, this->Values + begin);
-  }
-  void operator()(vtkIdType begin, vtkIdType end) const
-  {
-    void* raw = this->In->GetVoidPointer(0);
-    switch (this->In->GetDataType())
-    {
-      case VTK_UNSIGNED_CHAR:
-        this->Copy(static_cast<const unsigned char*>(raw), begin, end);
-        break;
-      case VTK_SIGNED_CHAR:
-        this->Copy(static_cast<const signed char*>(raw), begin, end);
-        break;
-      case VTK_CHAR:
-        this->Copy(static_cast<const char*>(raw), begin, end);
-        break;
-      case VTK_SHORT:
-        this->Copy(static_cast<const short*>(raw), begin, end);
-        break;
-      case VTK_UNSIGNED_SHORT:
-        this->Copy(static_cast<const unsigned short*>(raw), begin, end);
-        break;
-    }
-  }
-};
-
-template <typename Out>
-void CopyScalars(vtkDataArray* in, vtkDataArray* out)
-{
-  ScalarsCopier<Out> copier{ in, static_cast<Out*>(out->GetVoidPointer(0)) };
-  vtkSMPTools::For(0, in->GetNumberOfValues(), copier);
-}
-}
-
-//------------------------------------------------------------------------------
 vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* scalars)
 {
-  const int type = scalars->GetDataType();
-  const bool eightBit = type == VTK_UNSIGNED_CHAR || type == VTK_SIGNED_CHAR || type == VTK_CHAR;
-  const bool sixteenBit = type == VTK_UNSIGNED_SHORT || type == VTK_SHORT;
-  const int precision = this->VolumePrecision;
   // The copy holds the same values, so VTK's own scalar range and lookup tables stay those of
   // the data; only the texel format changes (VTK uploads 16-bit integers as 16-bit textures).
-  int copyType = VTK_VOID; // no copy
-  if (eightBit && (precision == VOLUME_PRECISION_AUTOMATIC || precision == VOLUME_PRECISION_16BIT))
+  const int precision = this->VolumePrecision;
+  vtkDataArray* widened = nullptr;
+  if (precision == VOLUME_PRECISION_AUTOMATIC || precision == VOLUME_PRECISION_16BIT)
   {
-    copyType = type == VTK_UNSIGNED_CHAR ? VTK_UNSIGNED_SHORT : VTK_SHORT;
+    widened = this->WidenedTextureScalars(scalars);
   }
-  else if ((eightBit || sixteenBit) && precision == VOLUME_PRECISION_FLOAT32)
+  else if (precision == VOLUME_PRECISION_FLOAT32)
   {
-    copyType = VTK_FLOAT;
+    widened = this->WidenedTextureScalars(scalars, VTK_FLOAT);
   }
+  else
+  {
+    this->WidenedTextureScalars(nullptr); // native: release any copy
+  }
+  vtkDataArray* uploaded = widened ? widened : scalars;
+  this->SetTextureScalars(widened);
   const vtkIdType values = scalars->GetNumberOfValues();
-  vtkDataArray* uploaded = scalars;
-  if (copyType != VTK_VOID && scalars->HasStandardMemoryLayout() &&
-    scalars->GetNumberOfComponents() == 1)
-  {
-    if (!this->ScalarsCopy || this->ScalarsCopySource != scalars ||
-      this->ScalarsCopyTime < scalars->GetMTime() || this->ScalarsCopy->GetDataType() != copyType)
-    {
-      if (this->ScalarsCopy)
-      {
-        this->ScalarsCopy->Delete();
-        this->ScalarsCopy = nullptr;
-      }
-      vtkDataArray* copy = vtkDataArray::CreateDataArray(copyType);
-      copy->SetName(scalars->GetName());
-      bool ok = false;
-      try
-      {
-        copy->SetNumberOfValues(values);
-        ok = copy->GetNumberOfValues() == values;
-      }
-      catch (const std::bad_alloc&)
-      {
-      }
-      if (ok)
-      {
-        switch (copyType)
-        {
-          case VTK_FLOAT:
-            CopyScalars<float>(scalars, copy);
-            break;
-          case VTK_SHORT:
-            CopyScalars<short>(scalars, copy);
-            break;
-          default:
-            CopyScalars<unsigned short>(scalars, copy);
-        }
-        this->ScalarsCopy = copy;
-        this->ScalarsCopySource = scalars;
-        this->ScalarsCopyTime = scalars->GetMTime();
-      }
-      else
-      {
-        copy->Delete();
-        vtkWarningMacro("Not enough memory for a "
-          << (copyType == VTK_FLOAT ? 32 : 16) << "-bit copy of the volume ("
-          << values * (copyType == VTK_FLOAT ? 4 : 2) << " bytes); uploading the data as it is.");
-      }
-    }
-    if (this->ScalarsCopy)
-    {
-      uploaded = this->ScalarsCopy;
-    }
-  }
-  if (uploaded == scalars && this->ScalarsCopy)
-  {
-    this->ScalarsCopy->Delete(); // no longer wanted
-    this->ScalarsCopy = nullptr;
-    this->ScalarsCopySource = nullptr;
-  }
-  this->SetTextureScalars(uploaded == scalars ? nullptr : uploaded);
   const int uploadedType = uploaded->GetDataType();
   const int bytes =
     uploadedType == VTK_UNSIGNED_CHAR || uploadedType == VTK_SIGNED_CHAR || uploadedType == VTK_CHAR

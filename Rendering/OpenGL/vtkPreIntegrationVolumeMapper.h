@@ -395,10 +395,6 @@ protected:
   int VolumePrecision = VOLUME_PRECISION_AUTOMATIC;
   vtkIdType VolumeTextureMemorySize = 0;
   vtkIdType VolumeCopyMemorySize = 0;
-  // The copy of the scalars for the volume texture, and what it was made from.
-  vtkDataArray* ScalarsCopy = nullptr;
-  vtkDataArray* ScalarsCopySource = nullptr;
-  vtkMTimeType ScalarsCopyTime = 0;
 
   vtkSecondOrderPreIntegrationTable* FirstOrderTable; // deviation 0
   vtkVolumeShadingModel* ShadingModel;

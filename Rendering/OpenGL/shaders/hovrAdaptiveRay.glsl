@@ -16,9 +16,10 @@
 //
 // Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
 // vtkAdaptiveRayVolumeMapper after computeRayDirection(), with hovrPreIntegrationCommon.glsl
-// (hovr_tableSize, hovr_rawToTable, hovr_tableCoord, hovr_stepsToExit) before it and the
+// (hovr_rawToTable, hovr_stepsToExit) before it and the
 // switches HOVR_ORACLE (sample the oracle texture, else d = 1), HOVR_COUNT_SAMPLES (count the
-// slice samples in an atomic counter) and HOVR_TILES (more than one layer).
+// slice samples in an atomic counter), HOVR_TILES (more than one layer) and HOVR_TRICUBIC
+// (the cubic B-spline approximation of the data, else VTK's trilinear interpolation).
 
 // Layer k - 1 (segments of k slices) is tile ((k - 1) mod columns, (k - 1) / columns) of a 2D
 // texture; within a tile, front along x and back along y, entries at texel centres.
@@ -38,6 +39,55 @@ uniform float hovr_oracleScale; // 1 / Delta
 #if HOVR_COUNT_SAMPLES
 layout(binding = 0, offset = 0) uniform atomic_uint hovr_sampleCounter;
 #endif
+
+#if HOVR_TRICUBIC
+// The cubic B-spline approximation of the volume at pos (texture coordinates, data points at
+// texel centres) from 8 trilinear fetches (Sigg and Hadwiger, "Fast Third-Order Texture
+// Filtering", GPU Gems 2, ch. 20): per axis, with x = i + f the position in texels,
+// the B-spline weights w0..w3 of the points i - 1 .. i + 2 pair into two linear fetches,
+// g0 (the fetch between i - 1 and i at offset h0 = w1 / g0, g0 = w0 + w1) plus g1 (between
+// i + 1 and i + 2 at offset h1 = w3 / g1, g1 = w2 + w3 = 1 - g0). The weights are positive, so
+// the value stays within the data range. Clamp-to-edge addressing continues the data beyond
+// the outermost points as copies of them.
+float hovr_volumeValue(vec3 pos)
+{
+  vec3 size = vec3(textureSize(in_volume[0], 0));
+  vec3 x = pos * size - 0.5;
+  vec3 i = floor(x);
+  vec3 f = x - i;
+  vec3 f2 = f * f;
+  vec3 f3 = f2 * f;
+  vec3 w0 = (1.0 - 3.0 * f + 3.0 * f2 - f3) / 6.0;
+  vec3 w1 = (4.0 - 6.0 * f2 + 3.0 * f3) / 6.0;
+  vec3 w3 = f3 / 6.0;
+  vec3 g0 = w0 + w1; // at least 1/6
+  vec3 g1 = 1.0 - g0;
+  vec3 t0 = (i - 0.5 + w1 / g0) / size;
+  vec3 t1 = (i + 1.5 + w3 / g1) / size;
+  float v000 = texture(in_volume[0], vec3(t0.x, t0.y, t0.z)).r;
+  float v100 = texture(in_volume[0], vec3(t1.x, t0.y, t0.z)).r;
+  float v010 = texture(in_volume[0], vec3(t0.x, t1.y, t0.z)).r;
+  float v110 = texture(in_volume[0], vec3(t1.x, t1.y, t0.z)).r;
+  float v001 = texture(in_volume[0], vec3(t0.x, t0.y, t1.z)).r;
+  float v101 = texture(in_volume[0], vec3(t1.x, t0.y, t1.z)).r;
+  float v011 = texture(in_volume[0], vec3(t0.x, t1.y, t1.z)).r;
+  float v111 = texture(in_volume[0], vec3(t1.x, t1.y, t1.z)).r;
+  // mix(a, b, g1) = g0 a + g1 b along x, then y, then z.
+  return mix(mix(mix(v000, v100, g1.x), mix(v010, v110, g1.x), g1.y),
+    mix(mix(v001, v101, g1.x), mix(v011, v111, g1.x), g1.y), g1.z);
+}
+#else
+float hovr_volumeValue(vec3 pos)
+{
+  return texture(in_volume[0], pos).r;
+}
+#endif
+
+// Table coordinate of the reconstructed scalar at pos.
+float hovr_sampleCoord(vec3 pos)
+{
+  return hovr_volumeValue(pos) * hovr_rawToTable.x + hovr_rawToTable.y;
+}
 
 vec3 hovr_entry;        // where the ray enters the volume (texture coordinates)
 float hovr_entrySlice;  // its slice coordinate
@@ -103,7 +153,7 @@ void hovr_adaptiveInit()
   hovr_endSteps = min(hovr_stepsToExit(hovr_entry), g_terminatePointMax + hovr_jitter);
   hovr_entrySlice = hovr_sliceCoordinate(ip_vertexPos.xyz, computeRayDirection());
   hovr_frontSlice = hovr_entrySlice;
-  hovr_sFront = hovr_tableCoord(hovr_entry);
+  hovr_sFront = hovr_sampleCoord(hovr_entry);
   hovr_done = !(hovr_endSteps > 0.0);
   // A ray entering within rounding of a slice starts on it (an axis-aligned view enters on
   // slice 0 exactly).
@@ -118,7 +168,7 @@ void hovr_adaptiveInit()
 
 void hovr_adaptiveStep()
 {
-  float s = hovr_tableCoord(g_dataPos);
+  float s = hovr_sampleCoord(g_dataPos);
 #if HOVR_COUNT_SAMPLES
   atomicCounterIncrement(hovr_sampleCounter);
 #endif
@@ -155,6 +205,6 @@ void hovr_adaptiveExit()
   if (slices > 0.0)
   {
     hovr_compositeSlices(
-      hovr_sFront, hovr_tableCoord(hovr_entry + hovr_endSteps * g_dirStep), slices);
+      hovr_sFront, hovr_sampleCoord(hovr_entry + hovr_endSteps * g_dirStep), slices);
   }
 }

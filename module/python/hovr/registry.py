@@ -90,6 +90,11 @@ class Method:
         """What the mapper (or the algorithm) reports after a frame, for the result's row."""
         return {}
 
+    def count_operations(self, mapper, draw):
+        """Counts that cost a frame of their own (a GPU counter read back): switch counting
+        on, ``draw()`` once, read, switch it off; a dict for the result's row."""
+        return {}
+
     def set_threads(self, mapper, threads):
         """Run on ``threads`` threads (0: the default): vtkSMPTools' count."""
         from vtkmodules.vtkCommonCore import vtkSMPTools
@@ -130,6 +135,9 @@ class ThreadedMethod(Method):
 
     def algorithm_samples(self, algorithm):
         return self.method.algorithm_samples(algorithm)
+
+    def count_operations(self, mapper, draw):
+        return self.method.count_operations(mapper, draw)
 
     def set_threads(self, mapper, threads):
         self.method.set_threads(mapper, threads)
@@ -350,6 +358,10 @@ class AdaptiveMethod(Method):
                 values["epsilon"],))
         return values
 
+    def count_samples(self, rays, scene, step):
+        """Unknown from the rays alone: the mappers count their own (count_operations)."""
+        return None
+
     def oracle_array(self, scene):
         """The name of the scene volume's oracle array for this method's settings, computed
         on first use (None for the "min" oracle, which the renderers know without an array)."""
@@ -408,6 +420,82 @@ class AdaptivePyramidCPUMethod(AdaptiveMethod):
                 "slice_spacing_voxels": caster.GetSliceSpacing() / spacing}
 
 
+class AdaptiveRayMethod(AdaptiveMethod):
+    """vtkAdaptiveRayVolumeMapper: first-order pre-integration in VTK's ray caster whose
+    samples skip along each ray as the oracle allows (the paper's Sec. 3.1 alone), on a global
+    slice grid of the step; perspective too. ``tricubic``: the volume reconstructed by the
+    cubic B-spline from 8 trilinear fetches per sample (an expensive sampler, where skipping
+    pays most)."""
+
+    def __init__(self, name, description, tricubic=False):
+        super().__init__(name, description)
+        self.tricubic = tricubic
+
+    def make_mapper(self):
+        mapper = gl.vtkAdaptiveRayVolumeMapper()
+        if self.tricubic:
+            mapper.SetReconstructionToTricubicBSpline()
+        return mapper
+
+    def configure(self, target, scene):
+        values = self.settings(scene)
+        target.SetMaximumLevel(values["lmax"])
+        array = self.oracle_array(scene)
+        if array is None:
+            target.SetOracleModeToMinimum()
+        else:
+            target.SetOracleModeToArray()
+            target.SetOracleArrayName(array)
+
+    def count_operations(self, mapper, draw):
+        mapper.CountSamplesOn()
+        draw()
+        count = mapper.GetLastFrameSampleCount()
+        mapper.CountSamplesOff()
+        return {"sample_ops": count} if count >= 0 else {}
+
+    def statistics(self, mapper):
+        return {"table_size": "%dx%dx%d" % (mapper.GetEffectiveTableSize(),
+                                            mapper.GetEffectiveTableSize(),
+                                            mapper.GetNumberOfTables()),
+                "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
+                "table_gpu_bytes": mapper.GetTableTextureMemorySize()
+                + mapper.GetOracleTextureMemorySize()}
+
+
+class AdaptivePyramidMethod(AdaptiveMethod):
+    """vtkAdaptiveSamplingVolumeMapper: the slice pyramid on the GPU (parallel projection);
+    its step is the distance between neighbouring rays, set by the camera and the image
+    size."""
+
+    uses_step = False
+    parallel_only = True
+
+    def make_mapper(self):
+        return gl.vtkAdaptiveSamplingVolumeMapper()
+
+    configure = AdaptiveRayMethod.configure
+
+    def count_operations(self, mapper, draw):
+        mapper.CountOperationsOn()
+        draw()
+        stats = {"sample_ops": mapper.GetLastFrameSampleOperations(),
+                 "synthesis_ops": mapper.GetLastFrameSynthesisOperations(),
+                 "accumulate_ops": mapper.GetLastFrameAccumulateOperations(),
+                 "full_rate_samples": mapper.GetLastFrameFullRateSampleOperations()}
+        mapper.CountOperationsOff()
+        if stats["sample_ops"] < 0:
+            return {}
+        full = stats["full_rate_samples"]
+        stats["sample_ratio_to_full"] = stats["sample_ops"] / full if full > 0 else float("nan")
+        return stats
+
+    def statistics(self, mapper):
+        spacing = min(abs(s) for s in mapper.GetInput().GetSpacing())
+        return {"slice_spacing_voxels": mapper.GetSliceSpacing() / spacing,
+                "passes_per_frame": mapper.GetLastFramePasses()}
+
+
 METHODS = {m.name: m for m in (
     ReferenceMethod("reference", "CPU ground truth: exact cubic per cell, adaptive pieces "
                                  "(vtkVolumeReferenceIntegrator)"),
@@ -448,6 +536,15 @@ METHODS = {m.name: m for m in (
                       "point-sampled classification (vtkObjectOrderVolumeMapper)",
                       core.vtkObjectOrderRayCaster.POINT_SAMPLED),
     FixedPointMethod("fixedpoint", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper)"),
+    AdaptiveRayMethod("adaptive-ray", "adaptive sampling along each ray: first-order "
+                      "pre-integration that skips samples as the oracle allows, on a global "
+                      "slice grid of the step (vtkAdaptiveRayVolumeMapper)"),
+    AdaptiveRayMethod("adaptive-ray-tricubic", "adaptive-ray with the volume reconstructed "
+                      "by the cubic B-spline (8 trilinear fetches a sample); its full rate is "
+                      "oracle min", tricubic=True),
+    AdaptivePyramidMethod("adaptive-3d", "adaptive sampling in three dimensions on the GPU: "
+                          "the oracle's slice pyramid, one slice per ray spacing, parallel "
+                          "projection (vtkAdaptiveSamplingVolumeMapper)"),
     AdaptivePyramidCPUMethod("adaptive-cpu", "adaptive sampling in three dimensions on the "
                              "CPU: the oracle's slice pyramid, one slice per ray spacing, "
                              "parallel projection (vtkAdaptiveSamplingRayCaster)"),

@@ -287,8 +287,11 @@ class Renderer:
                     self._add_blend_array(image, scene, rays, mappers[index],
                                           lambda: frame(index))
                 samples = method.count_samples(rays, scene, step) if rays_ok else None
-                results.append(RenderResult(image, times[index], samples,
-                                            method.statistics(mappers[index])))
+                stats = method.statistics(mappers[index])
+                stats.update(method.count_operations(mappers[index], lambda: frame(index)))
+                if "sample_ops" in stats:
+                    samples = stats["sample_ops"]
+                results.append(RenderResult(image, times[index], samples, stats))
         finally:
             renderer.RemoveAllViewProps()
             errors.close()

@@ -1,8 +1,14 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkHovrVolumeRepresentation.h"
 
+#include "vtkAdaptiveRayVolumeMapper.h"
+#include "vtkAdaptiveSamplingOracle.h"
+#include "vtkAdaptiveSamplingVolumeMapper.h"
+#include "vtkAlgorithm.h"
+#include "vtkAlgorithmOutput.h"
 #include "vtkAnalyticVolumeMapper.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -11,6 +17,7 @@
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkRectilinearGrid.h"
+#include "vtkVolumeProperty.h"
 
 #include <cmath>
 #include <cstring>
@@ -46,6 +53,16 @@ vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
   this->LeafSize = caster->GetLeafSize();
   this->InstructionSet = caster->GetInstructionSet();
   this->ObjectOrderMapper = cpuMapper;
+  auto rayMapper = vtkSmartPointer<vtkAdaptiveRayVolumeMapper>::New();
+  this->MaximumLevel = rayMapper->GetMaximumLevel();
+  this->AdaptiveRayMapper = rayMapper;
+  this->AdaptivePyramidMapper = vtkSmartPointer<vtkAdaptiveSamplingVolumeMapper>::New();
+  this->Oracle = vtkSmartPointer<vtkAdaptiveSamplingOracle>::New();
+  this->OracleMode = this->Oracle->GetMode();
+  this->OracleEpsilon = this->Oracle->GetEpsilon();
+  // The oracle reads the opacity map the volume is drawn with: an edit of the map makes its
+  // next update recompute the distances.
+  this->Oracle->SetScalarOpacity(this->Property->GetScalarOpacity());
 }
 
 //------------------------------------------------------------------------------
@@ -96,14 +113,29 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   // input, selects the array, the scalar mode and the cropping planes and sets the mapper on
   // the actor; where it needs vtkSmartVolumeMapper or vtkMultiBlockVolumeMapper it
   // down-casts, so for these mappers those settings are skipped rather than misapplied.
-  vtkVolumeMapper* chosen = this->Integration == OBJECT_ORDER ? this->ObjectOrderMapper
+  vtkVolumeMapper* chosen = this->Integration == ADAPTIVE_RAY ? this->AdaptiveRayMapper
+    : this->Integration == ADAPTIVE_3D                        ? this->AdaptivePyramidMapper
+    : this->Integration == OBJECT_ORDER                       ? this->ObjectOrderMapper
     : this->Integration >= ANALYTIC_ISOSURFACE                ? this->AnalyticMapper
                                                               : this->PreIntegrationMapper;
-  if (this->VolumeMapper != chosen)
+  // The data: what the render view connected to the current mapper, unless that is the
+  // oracle's output (a second call without a render request in between).
+  vtkAlgorithmOutput* data = this->VolumeMapper->GetInputConnection(0, 0);
+  if (data && data == this->Oracle->GetOutputPort())
   {
-    chosen->SetInputConnection(this->VolumeMapper->GetInputConnection(0, 0));
-    this->VolumeMapper = chosen;
+    data = this->Oracle->GetInputConnection(0, 0);
   }
+  const bool adaptive = chosen == this->AdaptiveRayMapper || chosen == this->AdaptivePyramidMapper;
+  if (adaptive && data)
+  {
+    this->Oracle->SetInputConnection(data);
+    chosen->SetInputConnection(this->Oracle->GetOutputPort());
+  }
+  else
+  {
+    chosen->SetInputConnection(data);
+  }
+  this->VolumeMapper = chosen;
   // ParaView joins the ranks' images front to back ("over"), which is not the maximum or
   // minimum over the pieces: say so rather than draw a silently different image.
   auto* controller = vtkMultiProcessController::GetGlobalController();
@@ -155,6 +187,57 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     caster->SetOpacityThreshold(this->OpacityThreshold);
     caster->SetLeafSize(this->LeafSize);
     caster->SetInstructionSet(this->InstructionSet);
+  }
+  else if (adaptive)
+  {
+    // The oracle reads the array the superclass selected for colouring.
+    vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+    const char* arrayName = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+      ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+      : nullptr;
+    if (arrayName)
+    {
+      this->Oracle->SetInputArrayToProcess(
+        0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, arrayName);
+    }
+    this->Oracle->SetMode(this->OracleMode);
+    this->Oracle->SetEpsilon(this->OracleEpsilon);
+    // Distances capped at the data's diagonal, not at the filter's automatic 8 voxels: the
+    // mappers clamp them to 2^l_max steps themselves, which can be more than 8 voxels (l_max
+    // 4, or the pyramid's pixel-sized steps when zoomed out). The transform costs the same.
+    vtkAlgorithmOutput* input = this->Oracle->GetInputConnection(0, 0);
+    auto* data = input
+      ? vtkDataSet::SafeDownCast(input->GetProducer()->GetOutputDataObject(input->GetIndex()))
+      : nullptr;
+    if (data && data->GetNumberOfPoints() > 0)
+    {
+      const double diagonal = data->GetLength();
+      if (diagonal > 0.0 && std::isfinite(diagonal))
+      {
+        this->Oracle->AutomaticMaximumDistanceOff();
+        this->Oracle->SetMaximumDistance(diagonal);
+      }
+    }
+    if (this->Oracle->GetScalarOpacity() != this->Property->GetScalarOpacity())
+    {
+      this->Oracle->SetScalarOpacity(this->Property->GetScalarOpacity());
+    }
+    // MIN is d = 1 everywhere: the mappers know it without an oracle volume.
+    const bool minimum = this->OracleMode == vtkAdaptiveSamplingOracle::MIN;
+    if (auto* ray = vtkAdaptiveRayVolumeMapper::SafeDownCast(this->VolumeMapper))
+    {
+      ray->SetMaximumLevel(this->MaximumLevel);
+      ray->SetOracleMode(minimum ? vtkAdaptiveRayVolumeMapper::ORACLE_MINIMUM
+                                 : vtkAdaptiveRayVolumeMapper::ORACLE_ARRAY);
+      ray->SetOracleArrayName(this->Oracle->GetOutputArrayName());
+    }
+    else if (auto* pyramid = vtkAdaptiveSamplingVolumeMapper::SafeDownCast(this->VolumeMapper))
+    {
+      pyramid->SetMaximumLevel(this->MaximumLevel);
+      pyramid->SetOracleMode(minimum ? vtkAdaptiveSamplingVolumeMapper::ORACLE_MINIMUM
+                                     : vtkAdaptiveSamplingVolumeMapper::ORACLE_ARRAY);
+      pyramid->SetOracleArrayName(this->Oracle->GetOutputArrayName());
+    }
   }
   else if (auto* analyticMapper = vtkAnalyticVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -233,5 +316,8 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "InstructionSet: " << this->InstructionSet << "\n";
+  os << indent << "MaximumLevel: " << this->MaximumLevel << "\n";
+  os << indent << "OracleMode: " << this->OracleMode << "\n";
+  os << indent << "OracleEpsilon: " << this->OracleEpsilon << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
 }

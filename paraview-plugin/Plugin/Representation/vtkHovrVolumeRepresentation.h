@@ -42,6 +42,7 @@
 #include "vtkImageVolumeRepresentation.h"
 #include "vtkSmartPointer.h" // For ivars
 
+class vtkAdaptiveSamplingOracle;
 class vtkVolumeMapper;
 
 class HOVRPARAVIEWREPRESENTATION_EXPORT vtkHovrVolumeRepresentation
@@ -61,7 +62,9 @@ public:
     ANALYTIC_ISOSURFACE = 3,
     ANALYTIC_MIP = 4,
     ANALYTIC_MINIP = 5,
-    OBJECT_ORDER = 6
+    OBJECT_ORDER = 6,
+    ADAPTIVE_RAY = 7, ///< vtkAdaptiveRayVolumeMapper: adaptive sampling along each ray
+    ADAPTIVE_3D = 8   ///< vtkAdaptiveSamplingVolumeMapper: the slice pyramid (parallel only)
   };
 
   ///@{
@@ -200,6 +203,24 @@ public:
 
   ///@{
   /**
+   * Adaptive sampling (ADAPTIVE_RAY, ADAPTIVE_3D): the oracle volume is computed from the
+   * input and the opacity map by a vtkAdaptiveSamplingOracle inside the representation
+   * (again when the opacity map changes). MaximumLevel is l_max (sampling distances up to
+   * 2^l_max base steps; initial value 3, the paper's), OracleMode a value of
+   * vtkAdaptiveSamplingOracle::Modes (initial value OPACITY_RANGE; MIN samples at the full
+   * rate) and OracleEpsilon its feature threshold (initial value 0.002). The mappers and the
+   * filter validate them.
+   */
+  vtkSetMacro(MaximumLevel, int);
+  vtkGetMacro(MaximumLevel, int);
+  vtkSetMacro(OracleMode, int);
+  vtkGetMacro(OracleMode, int);
+  vtkSetMacro(OracleEpsilon, double);
+  vtkGetMacro(OracleEpsilon, double);
+  ///@}
+
+  ///@{
+  /**
    * Blend mode and cropping flag, kept here and given to whichever mapper draws (the
    * superclass sets them on its current mapper only). The analytic modes override the blend
    * mode with theirs. Initial values: composite, off.
@@ -223,10 +244,14 @@ protected:
   // Half the smallest grid spacing of the mapper's input, or 0 when there is no grid.
   double ComputeAutomaticSampleDistance();
 
-  // The two mappers; VolumeMapper points to the one the Integration value chooses.
+  // The mappers; VolumeMapper points to the one the Integration value chooses.
   vtkSmartPointer<vtkVolumeMapper> PreIntegrationMapper;
   vtkSmartPointer<vtkVolumeMapper> AnalyticMapper;
   vtkSmartPointer<vtkVolumeMapper> ObjectOrderMapper;
+  vtkSmartPointer<vtkVolumeMapper> AdaptiveRayMapper;
+  vtkSmartPointer<vtkVolumeMapper> AdaptivePyramidMapper;
+  // Between the data and the adaptive mappers: the oracle volume.
+  vtkSmartPointer<vtkAdaptiveSamplingOracle> Oracle;
 
   // The mapper's settings start from the mapper's own defaults (set in the constructor).
   int Integration;
@@ -249,6 +274,9 @@ protected:
   double OpacityThreshold;
   int LeafSize;
   int InstructionSet;
+  int MaximumLevel;
+  int OracleMode;
+  double OracleEpsilon;
   double EffectiveSampleDistance = 0.0;
   bool WarnedDistributedProjection = false;
 

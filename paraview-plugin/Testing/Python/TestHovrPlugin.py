@@ -213,7 +213,9 @@ def main():
     checker.check(integrations == ["Stock", "First-order pre-integration",
                                    "Second-order pre-integration", "Analytic isosurface",
                                    "Analytic MIP", "Analytic MinIP",
-                                   "Object-order ray casting (CPU)"],
+                                   "Object-order ray casting (CPU)",
+                                   "Adaptive sampling along rays",
+                                   "Adaptive sampling in 3D (pyramid)"],
                   "Integration choices (%s)" % integrations)
     precisions = list(display.GetProperty("HovrTablePrecision").Available)
     checker.check(precisions == ["Automatic", "8-bit", "Half float", "Float"],

@@ -13,8 +13,9 @@ representation in first order with Shade on, and checks that
     light almost as the gradient does;
   - a Normal Array the input lacks is an error and nothing is drawn, and an empty name lights
     by the gradient again, as None does;
-  - shaded second order and a positional light fall back to VTK's shader with a warning, and
-    the shaded first-order image is closer to VTK's shaded one than to the unshaded one.
+  - shaded second order is pre-integrated too and lit as first order; a positional light falls
+    back to VTK's shader with a warning; the shaded first-order image is closer to VTK's
+    shaded one than to the unshaded one.
 
     pvbatch TestHovrShading.py --plugin <hovr.so> --baseline <png> --output-dir <dir>
 
@@ -114,15 +115,21 @@ def frames_drawn(display):
     return mapper_setting(mapper, "ExtensionFrameCount") if mapper else 0
 
 
-def first_order_only(display, name):
-    """Whether the property's panel hint shows it for first-order pre-integration only."""
+def pre_integration_only(display, name):
+    """Whether the property's panel hint shows it for the two pre-integration orders only."""
     hints = display.GetProperty(name).SMProperty.GetHints()
-    decorator = hints.FindNestedElementByName("PropertyWidgetDecorator") if hints else None
-    return decorator is not None and \
-        decorator.GetAttribute("type") == "GenericDecorator" and \
-        decorator.GetAttribute("mode") == "visibility" and \
-        decorator.GetAttribute("property") == "HovrIntegration" and \
-        decorator.GetAttribute("value") == "1"
+    values = set()
+    stack = [hints] if hints else []
+    while stack:
+        element = stack.pop()
+        if element.GetName() == "PropertyWidgetDecorator" and \
+                element.GetAttribute("type") == "GenericDecorator" and \
+                element.GetAttribute("mode") == "visibility" and \
+                element.GetAttribute("property") == "HovrIntegration":
+            values.add(element.GetAttribute("value"))
+        stack.extend(element.GetNestedElement(i)
+                     for i in range(element.GetNumberOfNestedElements()))
+    return values == {"1", "2"}
 
 
 def show_volume(source, view):
@@ -163,8 +170,8 @@ def main():
                   "Normal Array defaults to None, the only choice without 3-component point "
                   "arrays (%r of %s)" % (display.HovrNormalArray, normal_arrays))
     for name in ("HovrGradientInterpolation", "HovrGooch", "HovrNormalArray"):
-        checker.check(first_order_only(display, name),
-                      "%s is shown for first-order pre-integration only" % name)
+        checker.check(pre_integration_only(display, name),
+                      "%s is shown for first- and second-order pre-integration only" % name)
 
     # The Marschner-Lobb signal's 0.5 shell, a rippled surface whose normals turn quickly:
     # where the gradient interpolations differ.
@@ -234,16 +241,24 @@ def main():
                   % (difference, MIN_SETTING_DIFFERENCE))
     display.HovrGooch = 0
 
-    # The documented fallbacks: shaded second order and a positional light draw with VTK's
-    # shader after a warning.
+    # Shaded second order is pre-integrated too (its slab's two half arcs), with the same
+    # lights: close to first order's image, far from the unlit one.
+    # Its table is sized by measurement: a fixed 256^3 with ten moment layers exceeds the
+    # 3D texture depth and is reduced after a warning.
     display.HovrIntegration = "Second-order pre-integration"
-    second, said = frame(view, image("second"))
-    checker.check(any("does not shade" in m for m in said) and read_rgb(second)[0].max() > 0,
-                  "shaded second order falls back with a warning (%s)" % said)
+    display.HovrTableSize = 0
+    second = shaded_frame(display, "second", "shaded second order")
+    display.HovrTableSize = TABLE_SIZE
+    to_first, to_unlit = image_difference(second, shaded), image_difference(second, unshaded)
+    checker.check(to_first < 0.5 * to_unlit,
+                  "shaded second order is lit as first order: RMS difference %g, less than half "
+                  "of its difference to the unshaded image %g" % (to_first, to_unlit))
     # VTK's shader lights the same normals (its gradient) with the same lights and point
     # sampling: a wrong sign or lighting convention would leave the pre-integrated image no
     # closer to it than the unlit one.
-    to_stock, to_unshaded = image_difference(shaded, second), image_difference(shaded, unshaded)
+    display.HovrIntegration = "Stock"
+    stock, _ = frame(view, image("stock"))
+    to_stock, to_unshaded = image_difference(shaded, stock), image_difference(shaded, unshaded)
     checker.check(to_stock < to_unshaded,
                   "the shaded image is closer to VTK's shaded one than to the unshaded one: "
                   "RMS difference %g < %g" % (to_stock, to_unshaded))

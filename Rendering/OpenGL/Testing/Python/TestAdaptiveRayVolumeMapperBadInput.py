@@ -5,7 +5,11 @@ Gaussian blobs (33^3, float) with their vtkAdaptiveSamplingOracle array, 64 x 64
   infinite value, cell scalars) gives one warning naming the cause and the image of
   OracleMode MINIMUM (every slice sampled), to float rounding (max 1e-6); the next frame
   warns no more; a usable oracle then draws quietly again;
-- MaximumLevel outside [0, 8] is clamped with a warning;
+- MaximumLevel outside [0, 8] is clamped with a warning; an unknown Reconstruction gives a
+  warning and trilinear;
+- the tricubic B-spline on a constant volume (where its clamp-to-edge borders matter most) and
+  on a volume of 2 x 2 x 2 points draws quietly the trilinear image (a constant field in both;
+  max 1e-5);
 - a sample distance of 0, -1, NaN or infinity is an error and draws nothing (alpha 0);
 - Shade on, and cropping, give a warning and VTK's stock image (the same as
   vtkOpenGLGPUVolumeRayCastMapper's, max 1e-6);
@@ -154,6 +158,29 @@ for level, clamped in ((9, 8), (-1, 0)):
     mapper.SetMaximumLevel(level)
     c.check(mapper.GetMaximumLevel() == clamped and said(messages, "warnings", "outside [0, 8]"),
             "MaximumLevel %d: clamped to %d with a warning" % (level, clamped))
+
+for value in (-1, 2):
+    mapper = hovr.vtkAdaptiveRayVolumeMapper()
+    mapper.SetReconstructionToTricubicBSpline()
+    messages = Messages(mapper)
+    mapper.SetReconstruction(value)
+    c.check(mapper.GetReconstruction() == mapper.RECONSTRUCTION_TRILINEAR and
+            said(messages, "warnings", "unknown"),
+            "Reconstruction %d: a warning and trilinear" % value)
+
+for shape in ((33, 33, 33), (2, 2, 2)):
+    constant = image_from_array(numpy.full(shape, 104.0, numpy.float32))
+    images = []
+    for reconstruction in (0, 1):
+        image, messages = draw(adaptive(OracleMode=1, Reconstruction=reconstruction), constant,
+                               cam=hio.default_camera(constant.GetBounds()))
+        c.check(not messages.errors and not messages.warnings and numpy.isfinite(image).all(),
+                "constant %s, reconstruction %d: no message" % (shape, reconstruction))
+        images.append(image)
+    difference = float(numpy.abs(images[0] - images[1]).max())
+    c.check(difference <= 1e-5 and images[0][..., 3].max() > 0.05,
+            "constant %s: tricubic draws the trilinear image (max difference %.2g, alpha %.2f)"
+            % (shape, difference, images[0][..., 3].max()))
 
 for distance in (0.0, -1.0, math.nan, math.inf):
     image, messages = draw(adaptive(SampleDistance=distance), good)

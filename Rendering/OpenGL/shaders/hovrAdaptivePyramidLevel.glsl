@@ -1,0 +1,256 @@
+//VTK::System::Dec
+#extension GL_ARB_gpu_shader_fp64 : require
+// hovr: one pass of "Adaptive Sampling in Three Dimensions for Volume Rendering on GPUs":
+// Fig. 7 for every pixel of pyramid level `level` on slice `slice` (Sec. 3.2-3.4), the GPU
+// mirror of vtkAdaptiveSamplingRayCaster. One fragment per level pixel.
+//
+// Render targets, read from the previous pass of this level (the *In samplers) and written
+// here:
+//   0 state:  (s as table index, d high, d low, terminated): d in slice spacings is kept as a
+//             float pair so that it holds the double the CPU core decides on;
+//   1 counts: (samples, syntheses, accumulates, 0) since the frame began, when
+//             countOperations is 1 (otherwise neither read nor drawn);
+//   2 level 0 only, previous: (s_prev as table index, i_prev, 0, 0) (Fig. 6);
+//   3 level 0 only, colour: premultiplied (C, alpha).
+
+//VTK::Output::Dec
+
+// The quad helper's texture coordinate: read below only so that its vertex attribute stays
+// active (the pixel comes from gl_FragCoord, exact at pixel centres).
+in vec2 texCoord;
+
+uniform int level;      // l
+uniform int sliceLevel; // l_slice (Table 1)
+uniform int maxLevel;   // l_max
+uniform int slice;      // i_slice
+uniform int segmentTables; // 2^l_max
+uniform int tableSize;
+uniform int minimumOracle;    // 1: d = 1 everywhere
+uniform int earlyTermination; // 1: stop opaque rays
+uniform int countOperations;  // 1: keep the counters
+uniform float invalidValue;   // NaN: a sample outside the box
+uniform float opacityThreshold;
+uniform vec2 imageSize; // the viewport (unpadded) in level-0 pixels
+
+uniform dvec3 rayOrigin; // index-space point of image coordinates (0, 0) on slice 0
+uniform dvec3 rayAxisX;  // index-space offset per unit of image x in [-1, 1]
+uniform dvec3 rayAxisY;
+uniform dvec3 sliceStep; // index-space offset from one slice to the next
+uniform dvec3 boxMax;    // grid dimensions - 1
+uniform dvec3 axisLength; // world length of one index unit along each axis
+uniform double sliceSpacing; // Delta, world units
+
+uniform sampler2D stateIn;
+uniform sampler2D countsIn;
+uniform sampler2D previousIn;
+uniform sampler2D colourIn;
+uniform sampler2D coarseState; // level + 1, this slice
+uniform sampler2D fineState;   // level - 1, its last pass (terminated flags)
+uniform sampler3D volumeIndex;  // the scalars as table indices (float)
+uniform sampler3D oracleWorld;  // oracle distances, world units
+uniform sampler3D tables;       // tableSize x tableSize x 2^l_max segment tables
+
+// The trilinear value at p (0-based continuous grid index), clamped to the box of the points:
+// vtkPreIntegrationRayMarch::Grid::Sample.
+void hovrCell(dvec3 p, out ivec3 cell, out dvec3 w)
+{
+  dvec3 x = min(max(p, dvec3(0.0)), boxMax);
+  cell = min(ivec3(x), ivec3(boxMax) - 1);
+  w = x - dvec3(cell);
+}
+
+float hovrSampleVolume(dvec3 p)
+{
+  ivec3 c;
+  dvec3 wd;
+  hovrCell(p, c, wd);
+  vec3 w = vec3(wd);
+  float v000 = texelFetch(volumeIndex, c, 0).r;
+  float v100 = texelFetch(volumeIndex, c + ivec3(1, 0, 0), 0).r;
+  float v010 = texelFetch(volumeIndex, c + ivec3(0, 1, 0), 0).r;
+  float v110 = texelFetch(volumeIndex, c + ivec3(1, 1, 0), 0).r;
+  float v001 = texelFetch(volumeIndex, c + ivec3(0, 0, 1), 0).r;
+  float v101 = texelFetch(volumeIndex, c + ivec3(1, 0, 1), 0).r;
+  float v011 = texelFetch(volumeIndex, c + ivec3(0, 1, 1), 0).r;
+  float v111 = texelFetch(volumeIndex, c + ivec3(1, 1, 1), 0).r;
+  float c00 = v000 + w.x * (v100 - v000);
+  float c10 = v010 + w.x * (v110 - v010);
+  float c01 = v001 + w.x * (v101 - v001);
+  float c11 = v011 + w.x * (v111 - v011);
+  float c0 = c00 + w.y * (c10 - c00);
+  float c1 = c01 + w.y * (c11 - c01);
+  return c0 + w.z * (c1 - c0);
+}
+
+// The oracle in double, as the CPU core interpolates it, so that d decides as it does there.
+double hovrSampleOracle(dvec3 p)
+{
+  ivec3 c;
+  dvec3 w;
+  hovrCell(p, c, w);
+  double v000 = double(texelFetch(oracleWorld, c, 0).r);
+  double v100 = double(texelFetch(oracleWorld, c + ivec3(1, 0, 0), 0).r);
+  double v010 = double(texelFetch(oracleWorld, c + ivec3(0, 1, 0), 0).r);
+  double v110 = double(texelFetch(oracleWorld, c + ivec3(1, 1, 0), 0).r);
+  double v001 = double(texelFetch(oracleWorld, c + ivec3(0, 0, 1), 0).r);
+  double v101 = double(texelFetch(oracleWorld, c + ivec3(1, 0, 1), 0).r);
+  double v011 = double(texelFetch(oracleWorld, c + ivec3(0, 1, 1), 0).r);
+  double v111 = double(texelFetch(oracleWorld, c + ivec3(1, 1, 1), 0).r);
+  double c00 = v000 + w.x * (v100 - v000);
+  double c10 = v010 + w.x * (v110 - v010);
+  double c01 = v001 + w.x * (v101 - v001);
+  double c11 = v011 + w.x * (v111 - v011);
+  double c0 = c00 + w.y * (c10 - c00);
+  double c1 = c01 + w.y * (c11 - c01);
+  return c0 + w.z * (c1 - c0);
+}
+
+// The segment of k slice spacings from table index sf to sb: the k-th table read as
+// vtkPreIntegrationRayMarch::TablePieces reads a first-order table (bilinear, entries at
+// texel centres, clamped to the edge entries).
+vec4 hovrSegment(float sf, float sb, int k)
+{
+  float last = float(tableSize - 1);
+  vec2 x = clamp(vec2(sf, sb), vec2(0.0), vec2(last));
+  ivec2 i = min(ivec2(x), ivec2(tableSize - 2));
+  vec2 w = x - vec2(i);
+  int z = k - 1;
+  vec4 e00 = texelFetch(tables, ivec3(i.x, i.y, z), 0);
+  vec4 e10 = texelFetch(tables, ivec3(i.x + 1, i.y, z), 0);
+  vec4 e01 = texelFetch(tables, ivec3(i.x, i.y + 1, z), 0);
+  vec4 e11 = texelFetch(tables, ivec3(i.x + 1, i.y + 1, z), 0);
+  return (1.0 - w.x) * (1.0 - w.y) * e00 + w.x * (1.0 - w.y) * e10 + (1.0 - w.x) * w.y * e01 +
+    w.x * w.y * e11;
+}
+
+void main()
+{
+  if (texCoord.x < -1.0)
+  {
+    discard; // never: the quad's coordinates lie in [0, 1]
+  }
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec4 state = texelFetch(stateIn, pixel, 0);
+  vec4 counts = countOperations != 0 ? texelFetch(countsIn, pixel, 0) : vec4(0.0);
+  float s = state.x;
+  double d = double(state.y) + double(state.z);
+
+  // SYNTHESIZE (Fig. 5): bilinear lookup of level + 1 at this pixel's centre, coarse
+  // coordinate x / 2 - 1/4, clamped to the edge (line 127); NaN spreads from any neighbour.
+  if (level < sliceLevel)
+  {
+    ivec2 coarseSize = textureSize(coarseState, 0);
+    ivec2 odd = pixel & 1;
+    ivec2 x0 = pixel / 2 - (1 - odd);
+    dvec2 wd = mix(dvec2(0.75), dvec2(0.25), bvec2(odd));
+    vec2 wf = vec2(wd);
+    ivec2 a = max(x0, ivec2(0));
+    ivec2 b = min(x0 + 1, coarseSize - 1);
+    vec4 gaa = texelFetch(coarseState, ivec2(a.x, a.y), 0);
+    vec4 gba = texelFetch(coarseState, ivec2(b.x, a.y), 0);
+    vec4 gab = texelFetch(coarseState, ivec2(a.x, b.y), 0);
+    vec4 gbb = texelFetch(coarseState, ivec2(b.x, b.y), 0);
+    double daa = double(gaa.y) + double(gaa.z), dba = double(gba.y) + double(gba.z);
+    double dab = double(gab.y) + double(gab.z), dbb = double(gbb.y) + double(gbb.z);
+    double d0 = daa + wd.x * (dba - daa);
+    double d1 = dab + wd.x * (dbb - dab);
+    d = d0 + wd.y * (d1 - d0);
+    float s0 = gaa.x + wf.x * (gba.x - gaa.x);
+    float s1 = gab.x + wf.x * (gbb.x - gab.x);
+    s = s0 + wf.y * (s1 - s0);
+    counts.y += 1.0;
+  }
+
+  // Early ray termination: level 0 by its own opacity; a coarser pixel when every finer pixel
+  // whose synthesis reads it (x in 2X - 1 .. 2X + 2, clamped) has stopped.
+  vec4 previous = vec4(0.0);
+  vec4 colour = vec4(0.0);
+  if (level == 0)
+  {
+    previous = texelFetch(previousIn, pixel, 0);
+    colour = texelFetch(colourIn, pixel, 0);
+  }
+  bool terminated = false;
+  if (earlyTermination != 0)
+  {
+    if (level == 0)
+    {
+      terminated = colour.a >= opacityThreshold;
+    }
+    else
+    {
+      ivec2 fineSize = textureSize(fineState, 0);
+      terminated = true;
+      for (int j = -1; j <= 2 && terminated; ++j)
+      {
+        for (int i = -1; i <= 2 && terminated; ++i)
+        {
+          ivec2 f = clamp(2 * pixel + ivec2(i, j), ivec2(0), fineSize - 1);
+          terminated = texelFetch(fineState, f, 0).w > 0.5;
+        }
+      }
+    }
+  }
+
+  // Fig. 7 decides both tests on d before it is resampled (lines 177-190).
+  bool sampleHere = (level == maxLevel || d < double(1 << (level + 1))) && !terminated;
+  bool accumulate = (sliceLevel == maxLevel || d < double(1 << (sliceLevel + 1))) && !terminated;
+  if (sampleHere)
+  {
+    // SAMPLE and ORACLE (Fig. 5, lines 137-138): the ray through level-0 pixel
+    // (2^l (x + 1/2) - 1/2, 2^l (y + 1/2) - 1/2), on this slice.
+    double scale = double(1 << level);
+    double px = 2.0lf * (scale * (double(pixel.x) + 0.5lf)) / double(imageSize.x) - 1.0lf;
+    double py = 2.0lf * (scale * (double(pixel.y) + 0.5lf)) / double(imageSize.y) - 1.0lf;
+    dvec3 p = rayOrigin + px * rayAxisX + py * rayAxisY + double(slice) * sliceStep;
+    dvec3 excess = max(-p, p - boxMax);
+    double outside = 0.0lf;
+    for (int a = 0; a < 3; ++a)
+    {
+      if (excess[a] > 0.0lf)
+      {
+        outside += excess[a] * excess[a] * axisLength[a] * axisLength[a];
+      }
+    }
+    if (outside > 0.0lf)
+    {
+      // Line 68's default value: NaN, a transparent segment end. The oracle is the distance
+      // to the box, so that rays approach the entry face with shrinking steps.
+      s = invalidValue;
+      d = minimumOracle != 0 ? 1.0lf : sqrt(outside) / sliceSpacing;
+    }
+    else
+    {
+      s = hovrSampleVolume(p);
+      d = minimumOracle != 0 ? 1.0lf : hovrSampleOracle(p) / sliceSpacing;
+      counts.x += 1.0;
+    }
+    d = min(max(d, 1.0lf), double(segmentTables));
+  }
+
+  if (level == 0 && accumulate)
+  {
+    // ACCUMULATECOLOR (Fig. 6): the segment of k = i - i_prev slice spacings.
+    if (previous.y >= 0.0)
+    {
+      int k = slice - int(previous.y);
+      if (!isnan(previous.x) && !isnan(s) && k >= 1 && k <= segmentTables)
+      {
+        colour += (1.0 - colour.a) * hovrSegment(previous.x, s, k);
+      }
+      counts.z += 1.0;
+    }
+    previous = vec4(s, float(slice), 0.0, 0.0);
+  }
+
+  bool stopped = false;
+  if (earlyTermination != 0)
+  {
+    stopped = level == 0 ? colour.a >= opacityThreshold : terminated;
+  }
+  float high = float(d);
+  gl_FragData[0] = vec4(s, high, float(d - double(high)), stopped ? 1.0 : 0.0);
+  gl_FragData[1] = counts;
+  gl_FragData[2] = previous;
+  gl_FragData[3] = colour;
+}

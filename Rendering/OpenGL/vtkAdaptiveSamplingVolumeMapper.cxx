@@ -1,0 +1,608 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+#include "vtkAdaptiveSamplingVolumeMapper.h"
+
+#include "vtkAdaptiveSamplingPyramid.h"
+
+#include "vtkCamera.h"
+#include "vtkCameraRayModel.h"
+#include "vtkDataArray.h"
+#include "vtkErrorForwarder.h"
+#include "vtkFirstOrderPreIntegrationTable.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkPlaneCollection.h"
+#include "vtkPointData.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkVolume.h"
+#include "vtkVolumeImageAlgorithm.h"
+#include "vtkVolumeProperty.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkAdaptiveSamplingVolumeMapper);
+
+namespace
+{
+// The most slices a frame may take: beyond, a frame of hours is an error instead.
+constexpr double MaximumSlices = 1e5;
+
+// What a full-rate ray caster samples on the same slice grid: per level-0 pixel of the padded
+// image, the slices whose point is inside the box (closed form from the ray's clip interval,
+// as the CPU core counts it).
+vtkIdType FullRateSamples(const vtkAdaptiveSamplingPyramid::Frame& frame, int width, int height)
+{
+  vtkIdType samples = 0;
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      const double px = 2.0 * (x + 0.5) / frame.Width - 1.0;
+      const double py = 2.0 * (y + 0.5) / frame.Height - 1.0;
+      double lo = 0.0, hi = static_cast<double>(frame.LastSlice);
+      for (int a = 0; a < 3 && lo <= hi; ++a)
+      {
+        const double o = frame.RayOrigin[a] + px * frame.RayAxisX[a] + py * frame.RayAxisY[a];
+        const double step = frame.SliceStep[a];
+        if (step == 0.0)
+        {
+          if (o < 0.0 || o > frame.BoxMax[a])
+          {
+            hi = -1.0;
+          }
+          continue;
+        }
+        const double ta = -o / step, tb = (frame.BoxMax[a] - o) / step;
+        lo = std::max(lo, std::min(ta, tb));
+        hi = std::min(hi, std::max(ta, tb));
+      }
+      if (hi >= lo)
+      {
+        samples +=
+          static_cast<vtkIdType>(std::floor(hi)) - static_cast<vtkIdType>(std::ceil(lo)) + 1;
+      }
+    }
+  }
+  return samples;
+}
+}
+
+struct vtkAdaptiveSamplingVolumeMapper::Internals
+{
+  // The k-th table (k = 1..2^MaximumLevel) composites a segment of k slice spacings (Fig. 6).
+  std::vector<vtkSmartPointer<vtkFirstOrderPreIntegrationTable>> Tables;
+  std::vector<int> UploadedBuilds; // the tables' build counts when they were uploaded
+  vtkNew<vtkTextureObject> TableTexture;
+  vtkNew<vtkTextureObject> VolumeTexture;
+  vtkNew<vtkTextureObject> OracleTexture;
+  // What the volume and oracle textures hold.
+  vtkDataArray* VolumeArray = nullptr; // not referenced: only compared
+  vtkMTimeType VolumeTime = 0;
+  double VolumeRange[2] = { 0, 0 };
+  int VolumeTableSize = 0;
+  vtkDataArray* OracleArray = nullptr; // not referenced: only compared
+  vtkMTimeType OracleTime = 0;
+
+  vtkAdaptiveSamplingPyramid Pyramid;
+  bool ShadingWarned = false; // warned of shading that is not applied, until it is off
+  vtkNew<vtkCameraRayModel> Rays;
+  vtkOpenGLRenderWindow* Context = nullptr; // not referenced: the window owns its resources
+
+  void Release(vtkWindow* window)
+  {
+    this->TableTexture->ReleaseGraphicsResources(window);
+    this->VolumeTexture->ReleaseGraphicsResources(window);
+    this->OracleTexture->ReleaseGraphicsResources(window);
+    this->UploadedBuilds.clear();
+    this->VolumeArray = nullptr;
+    this->OracleArray = nullptr;
+    this->Pyramid.ReleaseGraphicsResources(window);
+    this->Context = nullptr;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkAdaptiveSamplingVolumeMapper::vtkAdaptiveSamplingVolumeMapper()
+  : Internal(new Internals)
+{
+  this->SetOracleArrayName("OracleDistance");
+  vtkErrorForwarder::Forward(this->Internal->Rays, this);
+}
+
+//------------------------------------------------------------------------------
+vtkAdaptiveSamplingVolumeMapper::~vtkAdaptiveSamplingVolumeMapper()
+{
+  this->SetOracleArrayName(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveSamplingVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
+{
+  this->Internal->Release(window);
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+// A float 3D texture of nx x ny x nz texels of `components` channels, read with texelFetch.
+bool Upload3D(vtkTextureObject* texture,
+  vtkOpenGLRenderWindow* context,
+  int nx,
+  int ny,
+  int nz,
+  int components,
+  float* data)
+{
+  texture->SetContext(context);
+  texture->SetInternalFormat(components == 1 ? GL_R32F : GL_RGBA32F);
+  texture->SetFormat(components == 1 ? GL_RED : GL_RGBA);
+  texture->SetDataType(GL_FLOAT);
+  texture->SetMinificationFilter(vtkTextureObject::Nearest);
+  texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+  texture->SetWrapS(vtkTextureObject::ClampToEdge);
+  texture->SetWrapT(vtkTextureObject::ClampToEdge);
+  texture->SetWrapR(vtkTextureObject::ClampToEdge);
+  return texture->Create3DFromRaw(nx, ny, nz, components, VTK_FLOAT, data);
+}
+
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
+{
+  this->LastFrameSampleOperations = -1;
+  this->LastFrameSynthesisOperations = -1;
+  this->LastFrameAccumulateOperations = -1;
+  this->LastFrameFullRateSampleOperations = -1;
+  this->NumberOfSlices = 0;
+  this->SliceSpacing = 0.0;
+  this->LastFramePasses = 0;
+  Internals& internal = *this->Internal;
+
+  // Input: single-component point scalars of a grid with cells (the superclass's checks).
+  int dims[3], cellFlag = 0;
+  FramePlan plan = DrawNothing;
+  vtkDataArray* scalars = this->GetFrameScalars(dims, cellFlag, plan);
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  if (!scalars)
+  {
+    if (plan == DrawStock)
+    {
+      vtkErrorMacro("The input has no scalars to render; nothing is drawn.");
+    }
+    return;
+  }
+  if (cellFlag)
+  {
+    vtkErrorMacro("Adaptive sampling renders point scalars; the scalar mode selects cell data. "
+                  "Nothing is drawn.");
+    return;
+  }
+  const std::string why = vtkVolumeImageAlgorithm::CheckVolume(input, scalars);
+  if (!why.empty())
+  {
+    vtkErrorMacro(<< why << " Nothing is drawn.");
+    return;
+  }
+  const int lmax = this->MaximumLevel;
+  if (lmax < 0 || lmax > 8)
+  {
+    vtkErrorMacro("MaximumLevel " << lmax << " is outside [0, 8]; nothing is drawn.");
+    return;
+  }
+  vtkCamera* camera = ren->GetActiveCamera();
+  if (!camera->GetParallelProjection())
+  {
+    if (!this->PerspectiveReported)
+    {
+      vtkErrorMacro("Adaptive sampling needs a parallel projection (view-aligned slices of "
+                    "constant spacing); the camera is perspective. Nothing is drawn until the "
+                    "camera is parallel.");
+      this->PerspectiveReported = true;
+    }
+    return;
+  }
+  this->PerspectiveReported = false;
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND || this->Cropping ||
+    (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0))
+  {
+    vtkErrorMacro("Adaptive sampling draws composite blending without cropping or clipping "
+                  "planes; nothing is drawn.");
+    return;
+  }
+  vtkVolumeProperty* property = vol->GetProperty();
+  if (property->GetShade(0) && !internal.ShadingWarned)
+  {
+    vtkWarningMacro("Adaptive sampling composites unshaded emission and absorption (the "
+                    "paper's model); the volume property's shading is not applied.");
+  }
+  internal.ShadingWarned = property->GetShade(0) != 0;
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!context)
+  {
+    vtkErrorMacro("Adaptive sampling draws with OpenGL; the render window is not an OpenGL one.");
+    return;
+  }
+
+  // The oracle array (world units), checked once per array and modification.
+  const vtkIdType points = scalars->GetNumberOfTuples();
+  vtkDataArray* oracle = nullptr;
+  if (this->OracleMode == ORACLE_ARRAY)
+  {
+    oracle =
+      this->OracleArrayName ? input->GetPointData()->GetArray(this->OracleArrayName) : nullptr;
+    if (!oracle || oracle->GetNumberOfComponents() != 1 || oracle->GetNumberOfTuples() != points)
+    {
+      vtkErrorMacro("OracleArrayName \""
+        << (this->OracleArrayName ? this->OracleArrayName : "")
+        << "\" names no 1-component point array, one value per point; nothing is drawn.");
+      return;
+    }
+    if (oracle != internal.OracleArray || oracle->GetMTime() != internal.OracleTime)
+    {
+      for (vtkIdType i = 0; i < points; ++i)
+      {
+        if (!std::isfinite(oracle->GetComponent(i, 0)))
+        {
+          vtkErrorMacro("The oracle array \"" << this->OracleArrayName << "\" has a value that "
+                                              << "is not finite (point " << i
+                                              << "); nothing is drawn.");
+          return;
+        }
+      }
+    }
+  }
+
+  // The viewport and the slice spacing (line 68).
+  int width, height, originX, originY;
+  ren->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
+  if (width < 1 || height < 1)
+  {
+    return;
+  }
+  const double delta = 2.0 * camera->GetParallelScale() / height;
+  const double diagonal = input->GetLength();
+  if (!(delta > 0.0) || !std::isfinite(delta) || delta > diagonal ||
+    !(diagonal / delta <= MaximumSlices))
+  {
+    vtkErrorMacro("The slice spacing " << delta << " (2 ParallelScale / viewport height) must be "
+                                       << "positive, at most the volume's diagonal " << diagonal
+                                       << " and give at most " << MaximumSlices
+                                       << " slices across it; nothing is drawn.");
+    return;
+  }
+  internal.Rays->SetCamera(camera);
+  internal.Rays->SetImageSize(width, height);
+  if (!internal.Rays->Prepare())
+  {
+    return;
+  }
+
+  // The tables: the scalar range as the CPU core takes it, one table per segment length.
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  if (!(range[1] > range[0]))
+  {
+    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
+  }
+  const int block = 1 << lmax;
+  internal.Tables.resize(static_cast<size_t>(block));
+  bool tablesChanged = internal.UploadedBuilds.size() != static_cast<size_t>(block);
+  internal.UploadedBuilds.resize(static_cast<size_t>(block), -1);
+  for (int k = 1; k <= block; ++k)
+  {
+    auto& table = internal.Tables[k - 1];
+    if (!table)
+    {
+      table = vtkSmartPointer<vtkFirstOrderPreIntegrationTable>::New();
+      vtkErrorForwarder::Forward(table, this);
+    }
+    table->SetVolumeProperty(property);
+    table->SetSegmentLength(k * delta);
+    table->SetScalarRange(range);
+    table->SetTableSize(this->TableSize);
+    if (!table->Update())
+    {
+      return;
+    }
+    if (table->GetBuildCount() != internal.UploadedBuilds[k - 1])
+    {
+      tablesChanged = true;
+      ++this->TableBuildCount;
+    }
+  }
+  const int n = this->TableSize;
+  const double toIndex = (n - 1) / (range[1] - range[0]);
+  if (internal.Context != context)
+  {
+    internal.Release(internal.Context ? static_cast<vtkWindow*>(internal.Context) : nullptr);
+    internal.Context = context;
+    internal.UploadedBuilds.assign(static_cast<size_t>(block), -1);
+    tablesChanged = true;
+  }
+  if (tablesChanged || !internal.TableTexture->GetHandle())
+  {
+    const size_t entries = static_cast<size_t>(n) * n * 4;
+    std::vector<float> all(entries * block);
+    for (int k = 0; k < block; ++k)
+    {
+      const float* table = internal.Tables[k]->GetTable()->GetPointer(0);
+      std::copy(table, table + entries, all.begin() + entries * k);
+      internal.UploadedBuilds[k] = internal.Tables[k]->GetBuildCount();
+    }
+    if (!Upload3D(internal.TableTexture, context, n, n, block, 4, all.data()))
+    {
+      vtkErrorMacro("Could not upload the " << block << " segment tables of " << n << " x " << n
+                                            << " entries; nothing is drawn.");
+      internal.UploadedBuilds.assign(static_cast<size_t>(block), -1);
+      return;
+    }
+  }
+
+  // The volume as table indices (the scalars mapped through the table's range, as the CPU core
+  // looks them up), and the oracle in world units.
+  if (scalars != internal.VolumeArray || scalars->GetMTime() != internal.VolumeTime ||
+    range[0] != internal.VolumeRange[0] || range[1] != internal.VolumeRange[1] ||
+    n != internal.VolumeTableSize || !internal.VolumeTexture->GetHandle())
+  {
+    std::vector<float> values(static_cast<size_t>(points));
+    vtkSMPTools::For(0,
+      points,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          values[i] = static_cast<float>((scalars->GetComponent(i, 0) - range[0]) * toIndex);
+        }
+      });
+    internal.VolumeArray = nullptr;
+    if (!Upload3D(internal.VolumeTexture, context, dims[0], dims[1], dims[2], 1, values.data()))
+    {
+      vtkErrorMacro("Could not upload the " << dims[0] << " x " << dims[1] << " x " << dims[2]
+                                            << " volume; nothing is drawn.");
+      return;
+    }
+    internal.VolumeArray = scalars;
+    internal.VolumeTime = scalars->GetMTime();
+    std::copy(range, range + 2, internal.VolumeRange);
+    internal.VolumeTableSize = n;
+  }
+  if (oracle &&
+    (oracle != internal.OracleArray || oracle->GetMTime() != internal.OracleTime ||
+      !internal.OracleTexture->GetHandle()))
+  {
+    std::vector<float> values(static_cast<size_t>(points));
+    for (vtkIdType i = 0; i < points; ++i)
+    {
+      values[i] = static_cast<float>(oracle->GetComponent(i, 0));
+    }
+    internal.OracleArray = nullptr;
+    if (!Upload3D(internal.OracleTexture, context, dims[0], dims[1], dims[2], 1, values.data()))
+    {
+      vtkErrorMacro("Could not upload the oracle volume; nothing is drawn.");
+      return;
+    }
+    internal.OracleArray = oracle;
+    internal.OracleTime = oracle->GetMTime();
+  }
+  if (!oracle && !internal.OracleTexture->GetHandle())
+  {
+    // The minimum oracle reads nothing; the sampler still needs a texture.
+    float one = 1.0f;
+    Upload3D(internal.OracleTexture, context, 1, 1, 1, 1, &one);
+  }
+
+  // The slice grid in the volume's 0-based continuous grid index: world -> data -> index.
+  vtkNew<vtkMatrix4x4> dataToGrid;
+  dataToGrid->DeepCopy(input->GetPhysicalToIndexMatrix());
+  const int* extent = input->GetExtent();
+  for (int r = 0; r < 3; ++r)
+  {
+    dataToGrid->SetElement(r, 3, dataToGrid->GetElement(r, 3) - extent[2 * r]);
+  }
+  vtkNew<vtkMatrix4x4> worldToData;
+  vtkMatrix4x4::Invert(vol->GetMatrix(), worldToData);
+  vtkNew<vtkMatrix4x4> toGrid;
+  vtkMatrix4x4::Multiply4x4(dataToGrid, worldToData, toGrid);
+  vtkNew<vtkMatrix4x4> toWorld;
+  vtkMatrix4x4::Invert(toGrid, toWorld);
+  double axisLength[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    axisLength[a] = std::sqrt(toWorld->GetElement(0, a) * toWorld->GetElement(0, a) +
+      toWorld->GetElement(1, a) * toWorld->GetElement(1, a) +
+      toWorld->GetElement(2, a) * toWorld->GetElement(2, a));
+  }
+  double eye[3], forward[3];
+  internal.Rays->GetRay(0.0, 0.0, eye, forward);
+  double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
+  for (int c = 0; c < 8; ++c)
+  {
+    const double corner[4] = { (c & 1) ? dims[0] - 1.0 : 0.0,
+      (c & 2) ? dims[1] - 1.0 : 0.0,
+      (c & 4) ? dims[2] - 1.0 : 0.0,
+      1.0 };
+    double w[4];
+    toWorld->MultiplyPoint(corner, w);
+    const double depth =
+      (w[0] - eye[0]) * forward[0] + (w[1] - eye[1]) * forward[1] + (w[2] - eye[2]) * forward[2];
+    nearest = std::min(nearest, depth);
+    farthest = std::max(farthest, depth);
+  }
+  const vtkIdType lastSlice = static_cast<vtkIdType>(std::ceil((farthest - nearest) / delta));
+  const vtkIdType iMax = (lastSlice + block - 1) / block * block;
+  // Image coordinates (x, y) -> index-space point on slice 0: affine (parallel projection).
+  double base[3], axisX[3], axisY[3], step[3];
+  {
+    auto slice0 = [&](double x, double y, double p[3])
+    {
+      double origin[3], direction[3];
+      internal.Rays->GetRay(x, y, origin, direction);
+      const double world[4] = { origin[0] + nearest * forward[0],
+        origin[1] + nearest * forward[1],
+        origin[2] + nearest * forward[2],
+        1.0 };
+      double q[4];
+      toGrid->MultiplyPoint(world, q);
+      std::copy(q, q + 3, p);
+    };
+    double px[3], py[3];
+    slice0(0.0, 0.0, base);
+    slice0(1.0, 0.0, px);
+    slice0(0.0, 1.0, py);
+    const double forward4[4] = { forward[0], forward[1], forward[2], 0.0 };
+    double s[4];
+    toGrid->MultiplyPoint(forward4, s);
+    for (int a = 0; a < 3; ++a)
+    {
+      axisX[a] = px[a] - base[a];
+      axisY[a] = py[a] - base[a];
+      step[a] = s[a] * delta;
+    }
+  }
+
+  // The pyramid over the padded viewport.
+  const int paddedWidth = (width + block - 1) / block * block;
+  const int paddedHeight = (height + block - 1) / block * block;
+  if (!internal.Pyramid.Prepare(context, lmax, paddedWidth, paddedHeight))
+  {
+    vtkErrorMacro("The pyramid pass shader did not compile (it needs "
+                  "GL_ARB_gpu_shader_fp64); nothing is drawn.");
+    return;
+  }
+  vtkAdaptiveSamplingPyramid::Frame frame;
+  frame.MaximumLevel = lmax;
+  frame.LastSlice = iMax;
+  frame.Width = width;
+  frame.Height = height;
+  std::copy(base, base + 3, frame.RayOrigin);
+  std::copy(axisX, axisX + 3, frame.RayAxisX);
+  std::copy(axisY, axisY + 3, frame.RayAxisY);
+  std::copy(step, step + 3, frame.SliceStep);
+  std::copy(axisLength, axisLength + 3, frame.AxisLength);
+  for (int a = 0; a < 3; ++a)
+  {
+    frame.BoxMax[a] = dims[a] - 1.0;
+  }
+  frame.SliceSpacing = delta;
+  frame.TableSize = n;
+  frame.MinimumOracle = this->OracleMode == ORACLE_MINIMUM;
+  frame.EarlyTermination = this->EarlyRayTermination;
+  frame.Count = this->CountOperations;
+  frame.Volume = internal.VolumeTexture;
+  frame.Oracle = internal.OracleTexture;
+  frame.Tables = internal.TableTexture;
+  {
+    // Without counting, level 0 draws only the rays that meet the box, widened by how far
+    // synthesis chains reach (at most 1.5 (2^l_max - 1) level-0 pixels, plus half a coarse
+    // block): every pixel outside sees only NaN samples and stays transparent.
+    double lo[2] = { std::numeric_limits<double>::infinity(),
+      std::numeric_limits<double>::infinity() };
+    double hi[2] = { -lo[0], -lo[1] };
+    for (int c = 0; c < 8; ++c)
+    {
+      const double corner[3] = { (c & 1) ? frame.BoxMax[0] : 0.0,
+        (c & 2) ? frame.BoxMax[1] : 0.0,
+        (c & 4) ? frame.BoxMax[2] : 0.0 };
+      // Solve corner - base = x axisX + y axisY + t forward for the image coordinates (x, y):
+      // the grid-index frame is affine, so project with the inverse of [axisX axisY step].
+      double m[3][3], r[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        m[a][0] = axisX[a];
+        m[a][1] = axisY[a];
+        m[a][2] = step[a];
+        r[a] = corner[a] - base[a];
+      }
+      double inverse[3][3];
+      vtkMath::Invert3x3(m, inverse);
+      double xy[3];
+      vtkMath::Multiply3x3(inverse, r, xy);
+      // Image coordinates in [-1, 1] -> level-0 pixel indices.
+      const double px = (xy[0] + 1.0) * 0.5 * width - 0.5;
+      const double py = (xy[1] + 1.0) * 0.5 * height - 0.5;
+      lo[0] = std::min(lo[0], px);
+      hi[0] = std::max(hi[0], px);
+      lo[1] = std::min(lo[1], py);
+      hi[1] = std::max(hi[1], py);
+    }
+    const double margin = 2.0 * block + 2.0;
+    const int size[2] = { paddedWidth, paddedHeight };
+    for (int a = 0; a < 2; ++a)
+    {
+      const double first = std::floor(lo[a] - margin), last = std::ceil(hi[a] + margin);
+      frame.Rectangle[a] = static_cast<int>(std::min(std::max(first, 0.0), size[a] - 1.0));
+      frame.Rectangle[a + 2] = static_cast<int>(std::min(std::max(last, 0.0), size[a] - 1.0));
+    }
+  }
+
+  vtkOpenGLState* state = context->GetState();
+  state->PushFramebufferBindings();
+  this->LastFramePasses = internal.Pyramid.Draw(frame);
+  if (this->CountOperations)
+  {
+    vtkIdType totals[3];
+    internal.Pyramid.ReadCounts(totals);
+    this->LastFrameSampleOperations = totals[0];
+    this->LastFrameSynthesisOperations = totals[1];
+    this->LastFrameAccumulateOperations = totals[2];
+    this->LastFrameFullRateSampleOperations = FullRateSamples(frame, paddedWidth, paddedHeight);
+  }
+  state->PopFramebufferBindings();
+
+  // The level-0 image, cropped to the viewport, over what the renderer has drawn: premultiplied
+  // colour, so "over" is (1, 1 - alpha).
+  {
+    vtkOpenGLState::ScopedglBlendFuncSeparate blendSaver(state);
+    vtkOpenGLState::ScopedglEnableDisable blendEnabled(state, GL_BLEND);
+    vtkOpenGLState::ScopedglEnableDisable depthTest(state, GL_DEPTH_TEST);
+    vtkOpenGLState::ScopedglDepthMask depthMask(state);
+    state->vtkglEnable(GL_BLEND);
+    state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    state->vtkglDisable(GL_DEPTH_TEST);
+    state->vtkglDepthMask(GL_FALSE);
+    vtkTextureObject* image = internal.Pyramid.GetImage();
+    image->Activate();
+    image->CopyToFrameBuffer(
+      0, 0, width - 1, height - 1, 0, 0, width - 1, height - 1, width, height, nullptr, nullptr);
+    image->Deactivate();
+  }
+  this->NumberOfSlices = iMax + 1;
+  this->SliceSpacing = delta;
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveSamplingVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "MaximumLevel: " << this->MaximumLevel << "\n";
+  os << indent << "OracleMode: " << (this->OracleMode == ORACLE_ARRAY ? "ARRAY" : "MINIMUM")
+     << "\n";
+  os << indent << "OracleArrayName: " << (this->OracleArrayName ? this->OracleArrayName : "(none)")
+     << "\n";
+  os << indent << "TableSize: " << this->TableSize << "\n";
+  os << indent << "EarlyRayTermination: " << this->EarlyRayTermination << "\n";
+  os << indent << "CountOperations: " << this->CountOperations << "\n";
+  os << indent << "LastFrameSampleOperations: " << this->LastFrameSampleOperations << "\n";
+  os << indent << "LastFrameSynthesisOperations: " << this->LastFrameSynthesisOperations << "\n";
+  os << indent << "LastFrameAccumulateOperations: " << this->LastFrameAccumulateOperations << "\n";
+  os << indent << "LastFrameFullRateSampleOperations: " << this->LastFrameFullRateSampleOperations
+     << "\n";
+  os << indent << "NumberOfSlices: " << this->NumberOfSlices << "\n";
+  os << indent << "SliceSpacing: " << this->SliceSpacing << "\n";
+  os << indent << "LastFramePasses: " << this->LastFramePasses << "\n";
+  os << indent << "TableBuildCount: " << this->TableBuildCount << "\n";
+}
