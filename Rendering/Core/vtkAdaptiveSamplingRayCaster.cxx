@@ -365,20 +365,8 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
             {
               const int x = static_cast<int>(p % level.Width),
                         y = static_cast<int>(p / level.Width);
-              const int x0 = (x & 1) ? x / 2 : x / 2 - 1, y0 = (y & 1) ? y / 2 : y / 2 - 1;
-              const double wx = (x & 1) ? 0.25 : 0.75, wy = (y & 1) ? 0.25 : 0.75; // of x0 + 1
-              const int xa = std::max(x0, 0), xb = std::min(x0 + 1, coarse->Width - 1);
-              const int ya = std::max(y0, 0), yb = std::min(y0 + 1, coarse->Height - 1);
-              const size_t ra = static_cast<size_t>(ya) * coarse->Width;
-              const size_t rb = static_cast<size_t>(yb) * coarse->Width;
-              auto mix = [&](const std::vector<double>& g)
-              {
-                const double a = g[ra + xa] + wx * (g[ra + xb] - g[ra + xa]);
-                const double b = g[rb + xa] + wx * (g[rb + xb] - g[rb + xa]);
-                return a + wy * (b - a);
-              };
-              d = mix(coarse->D);
-              s = mix(coarse->S);
+              d = Synthesize(coarse->D.data(), coarse->Width, coarse->Height, x, y);
+              s = Synthesize(coarse->S.data(), coarse->Width, coarse->Height, x, y);
               ++synthesis;
             }
             // Fig. 7 decides both tests on d before resampling (the depth value z_l, lines
@@ -462,6 +450,27 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   this->FullRateSampleOperations = fullRate;
   this->WarnIfTransparent(rgba);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+double vtkAdaptiveSamplingRayCaster::Synthesize(const double* coarse,
+  int coarseWidth,
+  int coarseHeight,
+  int x,
+  int y)
+{
+  // Fig. 5: the fine pixel's centre in coarse coordinates is x / 2 - 1/4, so the two coarse
+  // neighbours weigh (1/4, 3/4) for an even x and (3/4, 1/4) for an odd one; indices -1 and
+  // coarseWidth are clamped to the edge.
+  const int x0 = (x & 1) ? x / 2 : x / 2 - 1, y0 = (y & 1) ? y / 2 : y / 2 - 1;
+  const double wx = (x & 1) ? 0.25 : 0.75, wy = (y & 1) ? 0.25 : 0.75; // of x0 + 1
+  const int xa = std::max(x0, 0), xb = std::min(x0 + 1, coarseWidth - 1);
+  const int ya = std::max(y0, 0), yb = std::min(y0 + 1, coarseHeight - 1);
+  const size_t ra = static_cast<size_t>(ya) * coarseWidth;
+  const size_t rb = static_cast<size_t>(yb) * coarseWidth;
+  const double a = coarse[ra + xa] + wx * (coarse[ra + xb] - coarse[ra + xa]);
+  const double b = coarse[rb + xa] + wx * (coarse[rb + xb] - coarse[rb + xa]);
+  return a + wy * (b - a);
 }
 
 //------------------------------------------------------------------------------

@@ -168,6 +168,13 @@ public:
    */
   static vtkIdType NextSampleSlice(vtkIdType sliceIndex, double d, int maximumLevel);
 
+  /**
+   * SYNTHESIZE of Fig. 5 at fine pixel (x, y) from a coarse level of coarseWidth x
+   * coarseHeight values (row-major): the bilinear lookup of the coarse level at the fine pixel's
+   * centre, (x / 2 - 1/4, y / 2 - 1/4) in coarse pixels, clamped to the edge (line 127).
+   */
+  static double Synthesize(const double* coarse, int coarseWidth, int coarseHeight, int x, int y);
+
 protected:
   vtkAdaptiveSamplingRayCaster();
   ~vtkAdaptiveSamplingRayCaster() override;

@@ -293,6 +293,42 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
     check(mismatches == 0,
       "closed-form next sample = per-slice loop (" + std::to_string(mismatches) +
         " of 20000 differ)");
+
+    // SYNTHESIZE (Fig. 5) reproduces Fig. 4: s_0[4,1] = 3/16 s_1[1,0] + 9/16 s_1[2,0] +
+    // 1/16 s_1[1,1] + 3/16 s_1[2,1], read as the weight of each coarse pixel (a unit impulse
+    // there); at the level's edge the missing neighbour's weight goes to the edge pixel.
+    const int cw = 4, ch = 3;
+    const double fig4[4][3] = {
+      { 1, 0, 3.0 / 16 }, { 2, 0, 9.0 / 16 }, { 1, 1, 1.0 / 16 }, { 2, 1, 3.0 / 16 }
+    };
+    double total = 0.0;
+    bool weights = true;
+    for (int cy = 0; cy < ch; ++cy)
+    {
+      for (int cx = 0; cx < cw; ++cx)
+      {
+        std::vector<double> impulse(cw * ch, 0.0);
+        impulse[cy * cw + cx] = 1.0;
+        const double w = vtkAdaptiveSamplingRayCaster::Synthesize(impulse.data(), cw, ch, 4, 1);
+        double expected = 0.0;
+        for (const auto& e : fig4)
+        {
+          expected += (e[0] == cx && e[1] == cy) ? e[2] : 0.0;
+        }
+        weights = weights && w == expected;
+        total += w;
+      }
+    }
+    check(weights && total == 1.0, "SYNTHESIZE weights of fine pixel (4, 1) are Fig. 4's");
+    std::vector<double> ramp(cw * ch);
+    for (int q = 0; q < cw * ch; ++q)
+    {
+      ramp[q] = q % cw;
+    }
+    check(vtkAdaptiveSamplingRayCaster::Synthesize(ramp.data(), cw, ch, 0, 0) == 0.0 &&
+        vtkAdaptiveSamplingRayCaster::Synthesize(ramp.data(), cw, ch, 7, 5) == 3.0 &&
+        vtkAdaptiveSamplingRayCaster::Synthesize(ramp.data(), cw, ch, 3, 2) == 1.25,
+      "SYNTHESIZE clamps to the edge and interpolates at the fine pixel's centre");
   }
 
   //----------------------------------------------------------------------------
