@@ -21,22 +21,14 @@
 #define vtkBlobSource_h
 
 #include "hovrFiltersSourcesModule.h" // For export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkCubeFieldSource.h"
 
-class HOVRFILTERSSOURCES_EXPORT vtkBlobSource : public vtkImageAlgorithm
+class HOVRFILTERSSOURCES_EXPORT vtkBlobSource : public vtkCubeFieldSource
 {
 public:
   static vtkBlobSource* New();
-  vtkTypeMacro(vtkBlobSource, vtkImageAlgorithm);
+  vtkTypeMacro(vtkBlobSource, vtkCubeFieldSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /**
-   * Points along each axis, at least 2. Initial value is 129 x 129 x 129.
-   */
-  vtkSetVector3Macro(Dimensions, int);
-  vtkGetVector3Macro(Dimensions, int);
-  ///@}
 
   ///@{
   /**
@@ -52,13 +44,13 @@ public:
   static double Evaluate(const double point[3], double scale);
 
 protected:
-  vtkBlobSource();
+  vtkBlobSource() = default;
   ~vtkBlobSource() override = default;
 
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  void ExecuteDataWithInformation(vtkDataObject* output, vtkInformation* outInfo) override;
+  const char* GetFieldName() override { return "Blobs"; }
+  bool CheckFieldSettings() override;
+  double EvaluateField(const double point[3]) override;
 
-  int Dimensions[3] = { 129, 129, 129 };
   double BlobScale = 1.0;
 
 private:

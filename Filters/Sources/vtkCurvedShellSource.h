@@ -38,22 +38,14 @@
 #define vtkCurvedShellSource_h
 
 #include "hovrFiltersSourcesModule.h" // For export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkCubeFieldSource.h"
 
-class HOVRFILTERSSOURCES_EXPORT vtkCurvedShellSource : public vtkImageAlgorithm
+class HOVRFILTERSSOURCES_EXPORT vtkCurvedShellSource : public vtkCubeFieldSource
 {
 public:
   static vtkCurvedShellSource* New();
-  vtkTypeMacro(vtkCurvedShellSource, vtkImageAlgorithm);
+  vtkTypeMacro(vtkCurvedShellSource, vtkCubeFieldSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /**
-   * Points along each axis, at least 2. Initial value is 129 x 129 x 129.
-   */
-  vtkSetVector3Macro(Dimensions, int);
-  vtkGetVector3Macro(Dimensions, int);
-  ///@}
 
   ///@{
   /**
@@ -79,13 +71,13 @@ public:
   static double Evaluate(const double point[3], double thickness, double wobble);
 
 protected:
-  vtkCurvedShellSource();
+  vtkCurvedShellSource() = default;
   ~vtkCurvedShellSource() override = default;
 
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  void ExecuteDataWithInformation(vtkDataObject* output, vtkInformation* outInfo) override;
+  const char* GetFieldName() override { return "CurvedShells"; }
+  bool CheckFieldSettings() override;
+  double EvaluateField(const double point[3]) override;
 
-  int Dimensions[3] = { 129, 129, 129 };
   double ShellThickness = 0.04;
   double Wobble = 0.15;
 
