@@ -220,36 +220,13 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   }
   vtkNew<vtkMatrix4x4> toWorld;
   vtkMatrix4x4::Invert(toIndex, toWorld);
-  // World length of one index unit along each axis: the distance to the box outside it.
-  double axisLength[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    axisLength[a] = std::sqrt(toWorld->GetElement(0, a) * toWorld->GetElement(0, a) +
-      toWorld->GetElement(1, a) * toWorld->GetElement(1, a) +
-      toWorld->GetElement(2, a) * toWorld->GetElement(2, a));
-  }
-
-  // Slice 0 through the box corner nearest to the camera (line 57): depths along the view
-  // direction from the plane of the ray origins (the camera position's plane).
-  double eye[3], forward[3];
+  // Slice 0 through the box corner nearest to the plane of the ray origins (the camera
+  // position's plane); axisLength: the world length of one index unit along each axis, for the
+  // distance to the box outside it.
+  double eye[3], forward[3], nearest, axisLength[3];
   this->RayModel->GetRay(0.0, 0.0, eye, forward);
-  double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
-  for (int c = 0; c < 8; ++c)
-  {
-    const double corner[4] = { (c & 1) ? dims[0] - 1.0 : 0.0,
-      (c & 2) ? dims[1] - 1.0 : 0.0,
-      (c & 4) ? dims[2] - 1.0 : 0.0,
-      1.0 };
-    double w[4];
-    toWorld->MultiplyPoint(corner, w);
-    const double depth =
-      (w[0] - eye[0]) * forward[0] + (w[1] - eye[1]) * forward[1] + (w[2] - eye[2]) * forward[2];
-    nearest = std::min(nearest, depth);
-    farthest = std::max(farthest, depth);
-  }
-  // i_max: the first multiple of 2^l_max at or behind the farthest corner (line 78).
-  const vtkIdType lastSlice = static_cast<vtkIdType>(std::ceil((farthest - nearest) / delta));
-  const vtkIdType iMax = (lastSlice + block - 1) / block * block;
+  const vtkIdType iMax =
+    ComputeSliceGrid(toWorld, dims, eye, forward, delta, lmax, nearest, axisLength);
   this->NumberOfSlices = iMax + 1;
   this->SliceSpacing = delta;
   const double forward4[4] = { forward[0], forward[1], forward[2], 0.0 };
@@ -450,6 +427,42 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   this->FullRateSampleOperations = fullRate;
   this->WarnIfTransparent(rgba);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(vtkMatrix4x4* gridToWorld,
+  const int dims[3],
+  const double eye[3],
+  const double forward[3],
+  double delta,
+  int maximumLevel,
+  double& nearest,
+  double axisLength[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    axisLength[a] = std::sqrt(gridToWorld->GetElement(0, a) * gridToWorld->GetElement(0, a) +
+      gridToWorld->GetElement(1, a) * gridToWorld->GetElement(1, a) +
+      gridToWorld->GetElement(2, a) * gridToWorld->GetElement(2, a));
+  }
+  nearest = std::numeric_limits<double>::infinity();
+  double farthest = -nearest;
+  for (int c = 0; c < 8; ++c)
+  {
+    const double corner[4] = { (c & 1) ? dims[0] - 1.0 : 0.0,
+      (c & 2) ? dims[1] - 1.0 : 0.0,
+      (c & 4) ? dims[2] - 1.0 : 0.0,
+      1.0 };
+    double w[4];
+    gridToWorld->MultiplyPoint(corner, w);
+    const double depth =
+      (w[0] - eye[0]) * forward[0] + (w[1] - eye[1]) * forward[1] + (w[2] - eye[2]) * forward[2];
+    nearest = std::min(nearest, depth);
+    farthest = std::max(farthest, depth);
+  }
+  const vtkIdType block = vtkIdType(1) << maximumLevel;
+  const vtkIdType lastSlice = static_cast<vtkIdType>(std::ceil((farthest - nearest) / delta));
+  return (lastSlice + block - 1) / block * block;
 }
 
 //------------------------------------------------------------------------------

@@ -67,6 +67,8 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkMatrix4x4;
+
 class HOVRRENDERINGCORE_EXPORT vtkAdaptiveSamplingRayCaster : public vtkVolumeImageAlgorithm
 {
 public:
@@ -167,6 +169,23 @@ public:
    * q = min(floor(log2 d), maximumLevel).
    */
   static vtkIdType NextSampleSlice(vtkIdType sliceIndex, double d, int maximumLevel);
+
+  /**
+   * The slice grid of a parallel view of a grid of dims points whose 0-based index maps to
+   * world coordinates by gridToWorld, seen along the unit direction forward from the plane
+   * through eye: slice 0 passes through the box corner nearest to that plane (line 57), its
+   * depth is returned in nearest, and the result is i_max, the first multiple of
+   * 2^maximumLevel at or behind the farthest corner at the slice spacing delta (line 78).
+   * axisLength receives the world length of one index step along each grid axis.
+   */
+  static vtkIdType ComputeSliceGrid(vtkMatrix4x4* gridToWorld,
+    const int dims[3],
+    const double eye[3],
+    const double forward[3],
+    double delta,
+    int maximumLevel,
+    double& nearest,
+    double axisLength[3]);
 
   /**
    * SYNTHESIZE of Fig. 5 at fine pixel (x, y) from a coarse level of coarseWidth x

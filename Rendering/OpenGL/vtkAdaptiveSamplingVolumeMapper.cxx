@@ -2,6 +2,7 @@
 #include "vtkAdaptiveSamplingVolumeMapper.h"
 
 #include "vtkAdaptiveSamplingPyramid.h"
+#include "vtkAdaptiveSamplingRayCaster.h"
 
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
@@ -419,31 +420,11 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   vtkMatrix4x4::Multiply4x4(dataToGrid, worldToData, toGrid);
   vtkNew<vtkMatrix4x4> toWorld;
   vtkMatrix4x4::Invert(toGrid, toWorld);
-  double axisLength[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    axisLength[a] = std::sqrt(toWorld->GetElement(0, a) * toWorld->GetElement(0, a) +
-      toWorld->GetElement(1, a) * toWorld->GetElement(1, a) +
-      toWorld->GetElement(2, a) * toWorld->GetElement(2, a));
-  }
-  double eye[3], forward[3];
+  // The CPU core's slice grid, so that both sample the same points.
+  double eye[3], forward[3], nearest, axisLength[3];
   internal.Rays->GetRay(0.0, 0.0, eye, forward);
-  double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
-  for (int c = 0; c < 8; ++c)
-  {
-    const double corner[4] = { (c & 1) ? dims[0] - 1.0 : 0.0,
-      (c & 2) ? dims[1] - 1.0 : 0.0,
-      (c & 4) ? dims[2] - 1.0 : 0.0,
-      1.0 };
-    double w[4];
-    toWorld->MultiplyPoint(corner, w);
-    const double depth =
-      (w[0] - eye[0]) * forward[0] + (w[1] - eye[1]) * forward[1] + (w[2] - eye[2]) * forward[2];
-    nearest = std::min(nearest, depth);
-    farthest = std::max(farthest, depth);
-  }
-  const vtkIdType lastSlice = static_cast<vtkIdType>(std::ceil((farthest - nearest) / delta));
-  const vtkIdType iMax = (lastSlice + block - 1) / block * block;
+  const vtkIdType iMax = vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(
+    toWorld, dims, eye, forward, delta, lmax, nearest, axisLength);
   // Image coordinates (x, y) -> index-space point on slice 0: affine (parallel projection).
   double base[3], axisX[3], axisY[3], step[3];
   {
