@@ -138,8 +138,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   const double delta = this->SampleDistance;
   if (!(delta > 0.0) || !std::isfinite(delta))
   {
-    vtkErrorMacro(
-      "The sample distance must be positive and finite, got " << delta << "; not drawing.");
+    this->CheckFrameSampleDistance(delta, this->MaximumSamplesPerRay);
     return DrawNothing;
   }
   int dims[3], cellFlag;
@@ -149,55 +148,34 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   {
     return plan;
   }
+  if (!this->CheckFrameSampleDistance(delta, this->MaximumSamplesPerRay))
+  {
+    return DrawNothing;
+  }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   double bounds[6];
   input->GetBounds(bounds);
   const double lo[3] = { bounds[0], bounds[2], bounds[4] };
   const double hi[3] = { bounds[1], bounds[3], bounds[5] };
-  const double samples = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)) / delta;
-  if (samples > this->MaximumSamplesPerRay)
-  {
-    vtkErrorMacro("The sample distance "
-      << delta << " takes " << samples << " samples along the volume's diagonal, more than "
-      << this->MaximumSamplesPerRay << " (MaximumSamplesPerRay); not drawing.");
-    return DrawNothing;
-  }
 
   // What the adaptive ray does not model goes to VTK's stock path.
   vtkVolumeProperty* property = vol->GetProperty();
-  const char* reason = nullptr;
-  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
-  {
-    reason = "the adaptive ray applies to composite blending only";
-  }
-  else if (scalars->GetNumberOfComponents() != 1)
-  {
-    reason = "the adaptive ray needs single-component scalars";
-  }
-  else if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
-  {
-    reason = "the adaptive ray does not support 2D transfer functions";
-  }
-  else if (property->GetShade(0))
+  std::string reason = this->GetCompositeFallbackReason(vol, scalars, "the adaptive ray");
+  if (reason.empty() && property->GetShade(0))
   {
     reason = "the adaptive ray does not shade";
   }
-  else if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0) &&
-    !IsConstantOne(property->GetGradientOpacity(0)))
-  {
-    reason = "the adaptive ray does not support gradient opacity";
-  }
-  else if (this->Cropping)
+  if (reason.empty() && this->Cropping)
   {
     reason = "the adaptive ray does not support cropping";
   }
-  else if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0)
+  if (reason.empty() && this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0)
   {
     reason = "the adaptive ray does not support clipping planes";
   }
-  if (reason)
+  if (!reason.empty())
   {
-    this->WarnFallbackOnce(reason);
+    this->WarnFallbackOnce(reason.c_str());
     return DrawStock;
   }
   this->ClearFallbackWarning();

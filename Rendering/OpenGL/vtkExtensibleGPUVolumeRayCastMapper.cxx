@@ -6,6 +6,7 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderPass.h"
 #include "vtkPiecewiseFunction.h"
@@ -14,6 +15,7 @@
 #include "vtkShaderProgram.h"
 #include "vtkVolume.h"
 #include "vtkVolumeImageAlgorithm.h"
+#include "vtkVolumeProperty.h"
 
 #include <algorithm>
 #include <cmath>
@@ -446,6 +448,65 @@ vtkDataArray* vtkExtensibleGPUVolumeRayCastMapper::WidenedTextureScalars(vtkData
   this->WidenedSource = scalars;
   this->WidenedSourceTime = scalars->GetMTime();
   return copy;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkExtensibleGPUVolumeRayCastMapper::GetCompositeFallbackReason(vtkVolume* vol,
+  vtkDataArray* scalars,
+  const char* method)
+{
+  const std::string subject = method;
+  vtkVolumeProperty* property = vol->GetProperty();
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return subject + " applies to composite blending only";
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    return subject + " needs single-component scalars";
+  }
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
+  {
+    return subject + " does not support 2D transfer functions";
+  }
+  // A gradient opacity of 1 everywhere changes nothing; VTK creates that default as soon as
+  // anything (vtkFixedPointVolumeRayCastMapper, for one) asks the property for the function.
+  if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0) &&
+    !IsConstantOne(property->GetGradientOpacity(0)))
+  {
+    return subject + " does not support gradient opacity";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::CheckFrameSampleDistance(double distance,
+  double maximumSamples)
+{
+  if (!(distance > 0.0) || !std::isfinite(distance))
+  {
+    vtkErrorMacro(
+      "The sample distance must be positive and finite, got " << distance << "; not drawing.");
+    return false;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  if (!input)
+  {
+    return true; // no input: VTK reports it itself
+  }
+  double bounds[6];
+  input->GetBounds(bounds);
+  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
+  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
+  const double samples = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)) / distance;
+  if (samples > maximumSamples)
+  {
+    vtkErrorMacro("The sample distance "
+      << distance << " takes " << samples << " samples along the volume's diagonal, more than "
+      << maximumSamples << " (MaximumSamplesPerRay); not drawing.");
+    return false;
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

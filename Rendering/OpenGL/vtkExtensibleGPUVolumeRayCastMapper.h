@@ -166,6 +166,21 @@ protected:
   vtkDataArray* WidenedTextureScalars(vtkDataArray* scalars, int wideType = VTK_VOID);
 
   /**
+   * Why a frame of `method` (a subject for the message, e.g. "pre-integration") cannot be
+   * drawn by the extension and goes to VTK's stock path, for what every hovr composite method
+   * leaves out: a blend mode other than composite, scalars of several components, a 2D
+   * transfer function, an enabled gradient opacity that is not constant one. Empty when none
+   * applies.
+   */
+  std::string GetCompositeFallbackReason(vtkVolume* vol, vtkDataArray* scalars, const char* method);
+
+  /**
+   * Whether the sample distance is positive, finite and takes at most maximumSamples samples
+   * along the input's diagonal; otherwise an error says so (the frame is then not drawn).
+   */
+  bool CheckFrameSampleDistance(double distance, double maximumSamples);
+
+  /**
    * Whether a piecewise function is 1 at every node, so everywhere (VTK clamps outside the
    * nodes); false for nullptr or a function without nodes. A gradient opacity that is
    * constant one does not change the image.

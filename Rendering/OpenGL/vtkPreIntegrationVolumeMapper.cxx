@@ -172,20 +172,12 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkRenderer* r
   vtkVolume* vol,
   vtkDataArray* scalars)
 {
-  vtkVolumeProperty* property = vol->GetProperty();
-  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  this->FallbackReason = this->GetCompositeFallbackReason(vol, scalars, "pre-integration");
+  if (!this->FallbackReason.empty())
   {
-    return "pre-integration applies to composite blending only";
+    return this->FallbackReason.c_str();
   }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    return "pre-integration needs single-component scalars";
-  }
-  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
-  {
-    return "pre-integration does not support 2D transfer functions";
-  }
-  if (property->GetShade(0))
+  if (vol->GetProperty()->GetShade(0))
   {
     vtkNew<vtkVolumeShadingModel> lights;
     if (lights->SetLightsFromRenderer(ren) > 0)
@@ -193,13 +185,6 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkRenderer* r
       return "shaded pre-integration models directional lights only, and a positional light "
              "is on";
     }
-  }
-  // A gradient opacity of 1 everywhere changes nothing; VTK creates that default as soon as
-  // anything (vtkFixedPointVolumeRayCastMapper, for one) asks the property for the function.
-  if (property->HasGradientOpacity(0) && !property->GetDisableGradientOpacity(0) &&
-    !IsConstantOne(property->GetGradientOpacity(0)))
-  {
-    return "pre-integration does not support gradient opacity";
   }
   return nullptr;
 }
@@ -228,8 +213,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 {
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
   {
-    vtkErrorMacro("The sample distance must be positive and finite, got " << this->SampleDistance
-                                                                          << "; not drawing.");
+    this->CheckFrameSampleDistance(this->SampleDistance, this->MaximumSamplesPerRay);
     return DrawNothing;
   }
   int dims[3], cellFlag;
@@ -239,17 +223,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   {
     return plan;
   }
-  double bounds[6];
-  vtkImageData::SafeDownCast(this->GetInput())->GetBounds(bounds);
-  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
-  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
-  const double samples = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)) / this->SampleDistance;
-  if (samples > this->MaximumSamplesPerRay)
+  if (!this->CheckFrameSampleDistance(this->SampleDistance, this->MaximumSamplesPerRay))
   {
-    vtkErrorMacro("The sample distance " << this->SampleDistance << " takes " << samples
-                                         << " samples along the volume's diagonal, more than "
-                                         << this->MaximumSamplesPerRay
-                                         << " (MaximumSamplesPerRay); not drawing.");
     return DrawNothing;
   }
   const bool stock = this->Integration == STOCK;

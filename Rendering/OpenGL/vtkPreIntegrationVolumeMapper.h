@@ -363,6 +363,7 @@ protected:
 
   // Returns a reason why this input and property cannot be pre-integrated, or nullptr.
   const char* GetStockFallbackReason(vtkRenderer* ren, vtkVolume* vol, vtkDataArray* scalars);
+  std::string FallbackReason; // what GetStockFallbackReason() last returned, when composed
   bool UploadTable(vtkRenderer* ren);
   // Takes the lighting of a shaded frame (lights from the renderer, coefficients
   // from the property) and sets the GLSL's shading switches: the moment layers the table
