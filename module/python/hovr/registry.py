@@ -362,6 +362,17 @@ class AdaptiveMethod(Method):
         """Unknown from the rays alone: the mappers count their own (count_operations)."""
         return None
 
+    def configure(self, target, scene):
+        """The settings, on any of the three adaptive classes (same setter names)."""
+        values = self.settings(scene)
+        target.SetMaximumLevel(values["lmax"])
+        array = self.oracle_array(scene)
+        if array is None:
+            target.SetOracleModeToMinimum()
+        else:
+            target.SetOracleModeToArray()
+            target.SetOracleArrayName(array)
+
     def oracle_array(self, scene):
         """The name of the scene volume's oracle array for this method's settings, computed
         on first use (None for the "min" oracle, which the renderers know without an array)."""
@@ -395,16 +406,6 @@ class AdaptivePyramidCPUMethod(AdaptiveMethod):
         caster.SetImageSize(*scene.size)
         return caster
 
-    def configure(self, target, scene):
-        values = self.settings(scene)
-        target.SetMaximumLevel(values["lmax"])
-        array = self.oracle_array(scene)
-        if array is None:
-            target.SetOracleModeToMinimum()
-        else:
-            target.SetOracleModeToArray()
-            target.SetOracleArrayName(array)
-
     def algorithm_samples(self, algorithm):
         return algorithm.GetNumberOfSampleOperations()
 
@@ -437,16 +438,6 @@ class AdaptiveRayMethod(AdaptiveMethod):
             mapper.SetReconstructionToTricubicBSpline()
         return mapper
 
-    def configure(self, target, scene):
-        values = self.settings(scene)
-        target.SetMaximumLevel(values["lmax"])
-        array = self.oracle_array(scene)
-        if array is None:
-            target.SetOracleModeToMinimum()
-        else:
-            target.SetOracleModeToArray()
-            target.SetOracleArrayName(array)
-
     def count_operations(self, mapper, draw):
         mapper.CountSamplesOn()
         draw()
@@ -473,8 +464,6 @@ class AdaptivePyramidMethod(AdaptiveMethod):
 
     def make_mapper(self):
         return gl.vtkAdaptiveSamplingVolumeMapper()
-
-    configure = AdaptiveRayMethod.configure
 
     def count_operations(self, mapper, draw):
         mapper.CountOperationsOn()
