@@ -222,8 +222,8 @@ struct vtkSecondOrderPreIntegrationTableKernel
     float sum[2][5][4] = {};
     float transmittance = 1.0f;
     const int parts = halves ? 2 : 1;
-    // Step width in the position of the segment or half.
-    const float w = static_cast<float>(parts) / static_cast<float>(n);
+    // Step width in the position of the segment or half (no steps: nothing to weigh).
+    const float w = n > 0 ? static_cast<float>(parts) / static_cast<float>(n) : 0.0f;
     for (int m = 0; m < n; ++m)
     {
       const float* step = steps + 4 * (reversed ? n - 1 - m : m);
