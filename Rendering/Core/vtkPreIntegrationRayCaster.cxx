@@ -98,8 +98,7 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
   // vtkPreIntegrationVolumeMapper asks them.
   const int needed = !model                                                 ? 0
     : model->GetGradientInterpolation() != vtkVolumeShadingModel::NONLINEAR ? 2
-    : model->GetGooch()                                                     ? 4
-                                                                            : 5;
+                                                                            : 4;
   if (model && !this->ExactSegments && order == 1)
   {
     const int moments = chordTable ? chordTable->GetMoments() : 0;
@@ -107,8 +106,7 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
     {
       vtkErrorMacro("Shaded compositing from the table needs the moment layers of a first-order "
                     "vtkSecondOrderPreIntegrationTable (DeviationSize 1, Moments at least "
-        << needed << " for this gradient interpolation"
-        << (model->GetGooch() ? " with Gooch shading" : "") << "); the table has "
+        << needed << " for this gradient interpolation); the table has "
         << (chordTable ? "Moments " + std::to_string(moments)
                        : std::string("none (a vtkFirstOrderPreIntegrationTable)"))
         << ". The image is empty.");
@@ -123,8 +121,7 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
       vtkErrorMacro("Shaded second-order compositing from the table needs the slab moment "
                     "layers of a vtkSecondOrderPreIntegrationTable (DeviationSize above 1, "
                     "SlabMoments at least "
-        << needed << " for this gradient interpolation"
-        << (model->GetGooch() ? " with Gooch shading" : "") << "); the table has DeviationSize "
+        << needed << " for this gradient interpolation); the table has DeviationSize "
         << chordTable->GetDeviationSize() << " and SlabMoments " << moments
         << ". The image is empty.");
       return 1;

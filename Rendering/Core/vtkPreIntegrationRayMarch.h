@@ -419,8 +419,8 @@ public:
       vtkIdType index[8];
       double weight[8];
       this->Table.Corners(v, index, weight);
-      double moments[5][4] = {};
-      for (int l = 0; l < std::min(this->Layers, 5); ++l)
+      double moments[4][4] = {};
+      for (int l = 0; l < std::min(this->Layers, 4); ++l)
       {
         for (int c = 0; c < (1 << this->Table.Dimensions); ++c)
         {
@@ -461,8 +461,8 @@ public:
       std::fill(rgba, rgba + 3, 0.0);
       for (int p = 0; p < 2; ++p)
       {
-        double moments[5][4] = {};
-        for (int l = 0; l < std::min(half, 5); ++l)
+        double moments[4][4] = {};
+        for (int l = 0; l < std::min(half, 4); ++l)
         {
           for (int c = 0; c < (1 << this->Table.Dimensions); ++c)
           {

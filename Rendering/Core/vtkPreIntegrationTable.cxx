@@ -2,6 +2,7 @@
 #include "vtkPreIntegrationTable.h"
 
 #include "vtkCommand.h"
+#include "vtkDataArray.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
 #include "vtkSMPTools.h"
@@ -150,6 +151,29 @@ void vtkPreIntegrationTable::BuildEmptyRuns()
     inRun = empty;
     this->EmptyRuns->SetValue(b, empty ? static_cast<float>(run) : -1.0f);
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTable::ComputeScalarRange(vtkDataArray* scalars,
+  double dataRange[2],
+  double tableRange[2])
+{
+  double range[2] = { 1.0, 0.0 };
+  if (scalars && scalars->GetNumberOfTuples() > 0)
+  {
+    scalars->GetFiniteRange(range, 0);
+  }
+  if (!(range[0] <= range[1]))
+  {
+    return false;
+  }
+  dataRange[0] = tableRange[0] = range[0];
+  dataRange[1] = tableRange[1] = range[1];
+  if (!(range[1] > range[0]))
+  {
+    tableRange[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -155,6 +155,15 @@ public:
     double entriesPerFeature = 4.0,
     bool opacityFeatures = false);
 
+  /**
+   * The scalar range a table spans for component 0 of scalars: dataRange receives their finite
+   * range (NaN and infinite values left out), tableRange the same widened by
+   * max(1, 1e-6 |value|) when the data is flat, so that its one value maps into a non-empty
+   * range (1 alone vanishes next to 1e20). False, both ranges untouched, when the scalars hold
+   * no finite value (empty or all NaN).
+   */
+  static bool ComputeScalarRange(vtkDataArray* scalars, double dataRange[2], double tableRange[2]);
+
 protected:
   vtkPreIntegrationTable();
   ~vtkPreIntegrationTable() override;

@@ -129,23 +129,22 @@ public:
   ///@{
   /**
    * Moment layers for shaded pre-integration (vtkVolumeShadingModel::ShadeSegment), first
-   * order only (DeviationSize 1): 0 stores the segment's RGBA; 2, 4 or 5 store that many
+   * order only (DeviationSize 1): 0 stores the segment's RGBA; 1 to 4 store that many
    * layers of TableSize x ChordSize entries one after the other instead, layer l holding
-   * (J_l.rgb, J'_l) for l < 4: the integrals of the colour-weighted and of the plain step
+   * (J_l.rgb, J'_l): the integrals of the colour-weighted and of the plain step
    * weights times (1 - u), u, u (1 - u)^2 and u^2 (1 - u) of the position u along the
    * segment (Guetat et al. 2010, Eq. 8 and 10 in a basis without cancellation; layers 0 and
-   * 1 sum to the unshaded RGBA), and layer 4 the tent integral I'' of the highlight search
-   * in its first channel. Linear and constant interpolation read 2 layers, non-linear 5,
-   * Gooch 4. Ignored (one RGBA layer) unless DeviationSize is 1. Initial value is 0.
+   * 1 sum to the unshaded RGBA). Linear and constant interpolation read 2 layers, non-linear
+   * 4. Ignored (one RGBA layer) unless DeviationSize is 1. Initial value is 0.
    */
-  vtkSetClampMacro(Moments, int, 0, 5);
+  vtkSetClampMacro(Moments, int, 0, 4);
   vtkGetMacro(Moments, int);
   ///@}
 
   ///@{
   /**
    * Moment layers for shaded second-order slabs (vtkVolumeShadingModel::ShadeSegment once per
-   * half slab), DeviationSize above 1 only: 0 stores the slab's RGBA; 2, 4 or 5 store twice
+   * half slab), DeviationSize above 1 only: 0 stores the slab's RGBA; 1 to 4 store twice
    * that many layers of TableSize x ChordSize x DeviationSize entries one after the other
    * instead: layers 0..SlabMoments-1 hold the moments of Moments' layers for the slab's front
    * half, its position u' = 2u running over [0, 1/2] of the slab, and the next SlabMoments
@@ -156,7 +155,7 @@ public:
    * SlabMoments + 1 sum to the unshaded RGBA. Ignored (one RGBA layer) when DeviationSize is 1.
    * Initial value is 0.
    */
-  vtkSetClampMacro(SlabMoments, int, 0, 5);
+  vtkSetClampMacro(SlabMoments, int, 0, 4);
   vtkGetMacro(SlabMoments, int);
   ///@}
 

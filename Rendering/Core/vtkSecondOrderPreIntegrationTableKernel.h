@@ -165,8 +165,7 @@ struct vtkSecondOrderPreIntegrationTableKernel
   // `layers` (stride floats apart) gets the integral of the step weights T (c alpha, alpha)
   // times the position weight of the J basis, u the position along the segment: (1 - u),
   // u, u (1 - u)^2, u^2 (1 - u) (J_0..J_3 of Guetat et al.'s Eq. 8 rewritten without
-  // cancellation), and layer 4 the tent min(2u, 2 - 2u) of the highlight search (line 213)
-  // in its first channel. backward, when given, gets the reversed path's. The position
+  // cancellation). backward, when given, gets the reversed path's. The position
   // weights are averaged exactly over each step, and a path takes at least MomentSteps steps
   // (the transmittance inside the segment skews the moments even where the scalar is
   // constant).
@@ -219,7 +218,7 @@ struct vtkSecondOrderPreIntegrationTableKernel
     float* out,
     bool halves = false)
   {
-    float sum[2][5][4] = {};
+    float sum[2][4][4] = {};
     float transmittance = 1.0f;
     const int parts = halves ? 2 : 1;
     // Step width in the position of the segment or half (no steps: nothing to weigh).
@@ -233,7 +232,7 @@ struct vtkSecondOrderPreIntegrationTableKernel
       const float u2 = u * u + w * w / 12.0f, u3 = u * (u * u + w * w / 4.0f);
       const float v = 1.0f - u;
       const float weights[4] = { v, u, u - 2.0f * u2 + u3, u2 - u3 };
-      for (int l = 0; l < std::min(layers, 4); ++l)
+      for (int l = 0; l < layers; ++l)
       {
         const float weight = transmittance * weights[l];
         for (int c = 0; c < 4; ++c)
@@ -241,7 +240,6 @@ struct vtkSecondOrderPreIntegrationTableKernel
           sum[part][l][c] += weight * step[c];
         }
       }
-      sum[part][4][0] += transmittance * step[3] * std::min(2.0f * u, 2.0f * v);
       transmittance *= 1.0f - step[3];
     }
     for (int p = 0; p < parts; ++p)

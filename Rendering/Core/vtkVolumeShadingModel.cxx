@@ -273,41 +273,26 @@ double vtkVolumeShadingModel::ArcCoefficient(const double front[3], const double
 //------------------------------------------------------------------------------
 bool vtkVolumeShadingModel::InteriorMaximum(double fh, double bh, double m, double& value)
 {
-  // p(u) = a0 + a1 u + a2 u^2 + a3 u^3 with the paper's a_k(H) (Eq. 8, r = -m).
+  // p(u) = a0 + a1 u + a2 u^2 + a3 u^3 with the paper's a_k(H) (Eq. 8, r = -m), evaluated as
+  // q(u) (1 + m u (1 - u)) with q(u) = fh (1 - u) + bh u.
   const double a1 = bh - fh + m * fh;
   const double a2 = m * (bh - 2.0 * fh);
   const double a3 = m * (fh - bh);
-  double roots[2];
-  int count = 0;
-  if (std::abs(a3) < 1e-12 * (std::abs(a1) + std::abs(a2)) || a3 == 0.0)
+  const double disc = a2 * a2 - 3.0 * a1 * a3;
+  if (disc < 0.0)
   {
-    if (a2 != 0.0)
-    {
-      roots[count++] = -a1 / (2.0 * a2);
-    }
+    return false;
   }
-  else
-  {
-    const double disc = a2 * a2 - 3.0 * a1 * a3;
-    if (disc >= 0.0)
-    {
-      // The root without cancellation first, the other from the product of the roots.
-      const double q = -(a2 + std::copysign(std::sqrt(disc), a2));
-      roots[count++] = q / (3.0 * a3);
-      if (q != 0.0)
-      {
-        roots[count++] = a1 / q;
-      }
-    }
-  }
+  // The root of p' without cancellation first, the other from the product of the roots; with
+  // a3 = 0 the second is the linear root -a1 / (2 a2), and a2 = a3 = 0 has none.
+  const double q = -(a2 + std::copysign(std::sqrt(disc), a2));
+  const double roots[2] = { a3 != 0.0 ? q / (3.0 * a3) : -1.0, q != 0.0 ? a1 / q : -1.0 };
   bool found = false;
-  for (int r = 0; r < count; ++r)
+  for (double u : roots)
   {
-    const double u = roots[r];
     if (u > 0.0 && u < 1.0)
     {
-      const double p =
-        fh * (1 - u) + bh * u + m * (fh * u * (1 - u) * (1 - u) + bh * u * u * (1 - u));
+      const double p = (fh + (bh - fh) * u) * (1.0 + m * u * (1.0 - u));
       value = found ? std::max(value, p) : p;
       found = true;
     }
@@ -316,7 +301,7 @@ bool vtkVolumeShadingModel::InteriorMaximum(double fh, double bh, double m, doub
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
+void vtkVolumeShadingModel::ShadeSegment(const double moments[4][4],
   const double front[3],
   const double back[3],
   const double view[3],
@@ -326,7 +311,9 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[5][4],
   const double* J1 = moments[1];
   const double* J2 = moments[2];
   const double* J3 = moments[3];
-  const double tent = moments[4][0];
+  // The tent integral I'' of the highlight search (line 213) from the moments at hand: the tent
+  // min(2u, 2 - 2u) projected (least squares) onto u (1 - u), the weight of J'_2 + J'_3.
+  const double tent = 3.125 * (J2[3] + J3[3]);
   const double n = this->GetConeSlope(); // the cone: 1 + n (x - 1)
   const int mode = this->GradientInterpolation;
   // The segment's unshaded colour and its opacity: I_0 = J_0 + J_1, I'_0 = J'_0 + J'_1.

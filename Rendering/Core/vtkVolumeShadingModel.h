@@ -220,12 +220,12 @@ public:
   /**
    * The shaded emission of a segment (premultiplied, attenuation inside the segment included)
    * from its moments: moments[k] (k = 0..3) holds J_k (colour-weighted, RGB) and J'_k
-   * (extinction only) as (r, g, b, J'), moments[4][0] the tent integral I'' of the highlight
-   * search (only read by the non-linear interpolation), for normals front and back (unit or
-   * zero) and the unit view direction. Ambient is Ka (J_0 + J_1). SpecularModel is ignored:
-   * segments use the cone.
+   * (extinction only) as (r, g, b, J'), for normals front and back (unit or zero) and the
+   * unit view direction. Ambient is Ka (J_0 + J_1). SpecularModel is ignored: segments use the
+   * cone. The highlight between two samples (the third specular case) takes the paper's tent
+   * integral I'' as 3.125 (J'_2 + J'_3), the tent's least-squares projection onto u (1 - u).
    */
-  void ShadeSegment(const double moments[5][4],
+  void ShadeSegment(const double moments[4][4],
     const double front[3],
     const double back[3],
     const double view[3],

@@ -180,18 +180,11 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   }
   this->ClearFallbackWarning();
 
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[0] <= range[1]))
+  double dataRange[2], range[2];
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
   {
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;
-  }
-  const double dataRange[2] = { range[0], range[1] };
-  if (!(range[1] > range[0]))
-  {
-    // Flat data: any non-empty range holds its one value.
-    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
   }
 
   // The oracle, or d = 1 after a warning when it cannot be used.

@@ -238,18 +238,11 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     this->ClearFallbackWarning();
   }
 
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[0] <= range[1]))
+  double dataRange[2], range[2];
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
   {
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;
-  }
-  const double dataRange[2] = { range[0], range[1] };
-  if (!(range[1] > range[0]))
-  {
-    // Flat data: any non-empty range holds its one value; 1 alone vanishes next to 1e20.
-    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
   }
   if (stock)
   {
@@ -344,8 +337,8 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
       return -1;
     }
     const int mode = model->GetGradientInterpolation();
-    // The moment layers the interpolation reads: non-linear Blinn-Phong also the tent.
-    layers = mode == vtkVolumeShadingModel::NONLINEAR ? (model->GetGooch() ? 4 : 5) : 2;
+    // The moment layers the interpolation reads: J_0..J_3 for the arc, J_0 and J_1 otherwise.
+    layers = mode == vtkVolumeShadingModel::NONLINEAR ? 4 : 2;
     const bool normals = this->NormalArrayName && *this->NormalArrayName;
     switches = std::string("#define HOVR_NORMALS ") + (normals ? "1" : "0") +
       "\n#define HOVR_LAYERS " + std::to_string(layers) + "\n#define HOVR_INTERPOLATION " +
@@ -496,7 +489,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   {
     return true;
   }
-  // The sizer takes at most 64 bytes per entry, fewer than 5 or 10 float layers hold: it
+  // The sizer takes at most 64 bytes per entry, fewer than 4 or 8 float layers hold: it
   // sizes one layer within the limit's share of one layer.
   this->TableSizer->SetMaximumMemory(std::max(this->TableMemoryLimit / layers, 1024.0));
   this->TableSizer->SetBytesPerEntry(bytes[precision] / layers);

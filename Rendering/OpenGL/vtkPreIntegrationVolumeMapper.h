@@ -143,8 +143,8 @@ public:
   ///@{
   /**
    * The largest table the automatic sizes consider, in bytes of GPU memory at the table's
-   * precision, every moment layer of a shaded table included (shaded second order stores 4 to
-   * 10 layers per entry, and needs a larger limit than unshaded second order for the same
+   * precision, every moment layer of a shaded table included (shaded second order stores 4 or
+   * 8 layers per entry, and needs a larger limit than unshaded second order for the same
    * sizes). Initial value is 64 MiB.
    */
   vtkSetClampMacro(TableMemoryLimit, double, 1024.0, 1e12);

@@ -7,7 +7,7 @@
 // along y), so a fetch filters bilinearly within its layer. The GLSL mirror of
 // vtkVolumeShadingModel::ShadeSegment(), operation for operation.
 //
-// Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2, 4 or 5 moment layers),
+// Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2 or 4 moment layers),
 // HOVR_INTERPOLATION (0 constant, 1 linear, 2 non-linear), HOVR_GOOCH (Eq. 11 instead of
 // Blinn-Phong), HOVR_NORMALS (normals from the texture hovr_normals instead of VTK's
 // normalised central-difference gradient, computeGradient), both in the volume's object
@@ -117,34 +117,25 @@ float hovr_cone(float x)
   return 1.0 + hovr_lighting.w * (x - 1.0);
 }
 
-#if HOVR_LAYERS > 4
+#if HOVR_INTERPOLATION == 2 && !HOVR_GOOCH
 // The largest interior critical value of p(u) = fh (1-u) + bh u + m (fh u (1-u)^2 + bh u^2
-// (1-u)) for u in (0, 1): the highlight between two samples (line 211).
+// (1-u)) = q(u) (1 + m u (1-u)), q(u) = fh (1-u) + bh u, for u in (0, 1): the highlight
+// between two samples (line 211). Branch-free, as SIMD rasterisers run every branch anyway.
 bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
 {
   float a1 = bh - fh + m * fh;
   float a2 = m * (bh - 2.0 * fh);
   float a3 = m * (fh - bh);
-  // The critical points: roots of a1 + 2 a2 u + 3 a3 u^2 (one when the cubic term vanishes),
-  // as two scalars: no local array, which a SIMD compiler keeps in memory.
-  float r0 = -1.0, r1 = -1.0;
-  if (a3 == 0.0 || abs(a3) < 1e-6 * (abs(a1) + abs(a2)))
-  {
-    r0 = a2 != 0.0 ? -a1 / (2.0 * a2) : -1.0;
-  }
-  else
-  {
-    float disc = a2 * a2 - 3.0 * a1 * a3;
-    if (disc >= 0.0)
-    {
-      float q = -(a2 + (a2 < 0.0 ? -1.0 : 1.0) * sqrt(disc));
-      r0 = q / (3.0 * a3);
-      r1 = q != 0.0 ? a1 / q : -1.0;
-    }
-  }
-  bool in0 = r0 > 0.0 && r0 < 1.0, in1 = r1 > 0.0 && r1 < 1.0;
-  float p0 = fh * (1.0 - r0) + bh * r0 + m * (fh * r0 * (1.0 - r0) * (1.0 - r0) + bh * r0 * r0 * (1.0 - r0));
-  float p1 = fh * (1.0 - r1) + bh * r1 + m * (fh * r1 * (1.0 - r1) * (1.0 - r1) + bh * r1 * r1 * (1.0 - r1));
+  // The roots of p' = a1 + 2 a2 u + 3 a3 u^2, the one without cancellation first and the
+  // other from their product; a3 = 0 leaves the linear root a1 / q alone.
+  float disc = a2 * a2 - 3.0 * a1 * a3;
+  float q = -(a2 + (a2 < 0.0 ? -1.0 : 1.0) * sqrt(max(disc, 0.0)));
+  float r0 = a3 != 0.0 ? q / (3.0 * a3) : -1.0;
+  float r1 = q != 0.0 ? a1 / q : -1.0;
+  bool in0 = disc >= 0.0 && r0 > 0.0 && r0 < 1.0;
+  bool in1 = disc >= 0.0 && r1 > 0.0 && r1 < 1.0;
+  float p0 = (fh + (bh - fh) * r0) * (1.0 + m * r0 * (1.0 - r0));
+  float p1 = (fh + (bh - fh) * r1) * (1.0 + m * r1 * (1.0 - r1));
   value = in0 && in1 ? max(p0, p1) : (in0 ? p0 : p1);
   return in0 || in1;
 }
@@ -163,6 +154,11 @@ vec4 hovr_shade(int base, hovr_tableCoord_t coord, vec3 nFront, vec3 nBack)
 #else
   vec4 J2 = vec4(0.0);
   vec4 J3 = vec4(0.0);
+#endif
+#if HOVR_INTERPOLATION == 2 && !HOVR_GOOCH
+  // The tent integral I'' of the highlight search (line 213) from the moments at hand: the
+  // tent min(2u, 2 - 2u) projected (least squares) onto u (1 - u), the weight of J_2 + J_3.
+  float tent = 3.125 * (J2.a + J3.a);
 #endif
   vec4 I0 = J0 + J1; // the unshaded segment: colour and opacity
   vec3 rgb;
@@ -234,7 +230,7 @@ vec4 hovr_shade(int base, hovr_tableCoord_t coord, vec3 nFront, vec3 nBack)
         if (!upFront && !upBack && max(fh, bh) * (1.0 + 0.25 * m) > threshold &&
           hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
         {
-          specular = hovr_cone(peak) * hovr_layer(base + 4, coord).r;
+          specular = hovr_cone(peak) * tent;
         }
       }
 #endif

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -488,6 +489,40 @@ int TestFirstOrderPreIntegrationTable(int, char*[])
         }
       }
     }
+  }
+
+  //----------------------------------------------------------------------------
+  // 7. ComputeScalarRange: the finite range, widened only for flat data.
+  {
+    vtkNew<vtkFloatArray> scalars;
+    double dataRange[2] = { -7.0, -7.0 }, tableRange[2] = { -7.0, -7.0 };
+    check(!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, tableRange) &&
+        dataRange[0] == -7.0 && tableRange[1] == -7.0,
+      "no scalars: no range, both untouched");
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    scalars->InsertNextValue(nan);
+    scalars->Modified();
+    check(!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, tableRange),
+      "all NaN: no range");
+    scalars->InsertNextValue(3.0f);
+    scalars->InsertNextValue(std::numeric_limits<float>::infinity());
+    scalars->Modified(); // inserting does not invalidate the cached range
+    check(vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, tableRange) &&
+        dataRange[0] == 3.0 && dataRange[1] == 3.0 && tableRange[0] == 3.0 && tableRange[1] == 4.0,
+      "flat finite data 3 (with NaN and inf): data [3, 3], table [3, 4]");
+    scalars->Reset();
+    scalars->InsertNextValue(1e20f);
+    scalars->Modified();
+    check(vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, tableRange) &&
+        tableRange[1] > tableRange[0] &&
+        std::abs(tableRange[1] - tableRange[0] - 1e-6 * tableRange[0]) <= 1e-9 * tableRange[0],
+      "flat data 1e20: the table range widens by 1e-6 of the value");
+    scalars->InsertNextValue(-2.0f);
+    scalars->Modified();
+    check(vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, tableRange) &&
+        dataRange[0] == -2.0 && tableRange[0] == -2.0 && dataRange[1] == tableRange[1] &&
+        dataRange[1] == static_cast<double>(1e20f),
+      "varying data: both ranges are the finite range");
   }
 
   messages.ExpectNone(check, "at the end of the test");
