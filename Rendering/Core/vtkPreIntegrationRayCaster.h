@@ -39,7 +39,7 @@
  * lights are given (a headlight shines along the view). The segment is then composited:
  *   - from the table (ExactSegments off): the moment layers of a first-order
  *     vtkSecondOrderPreIntegrationTable (DeviationSize 1, Moments > 0: 2 layers for constant
- *     and linear gradient interpolation, 5 for non-linear, 4 for non-linear Gooch), each read
+ *     and linear gradient interpolation, 4 for non-linear), each read
  *     with the bilinear lookup of the unshaded path, lit by
  *     vtkVolumeShadingModel::ShadeSegment() with the model's GradientInterpolation; opacity
  *     J'_0 + J'_1; a partial segment scaled as an unshaded one. This is the CPU mirror of the
@@ -57,7 +57,7 @@
  * Shaded second order takes the normals at each slab's front, middle and back (for the last,
  * shorter slab: its front, midpoint and end) and composites the slab
  *   - from the table: the slab moment layers of a vtkSecondOrderPreIntegrationTable
- *     (SlabMoments as many as first order's Moments: 2, 5 or 4) read with the trilinear lookup,
+ *     (SlabMoments as many as first order's Moments: 2 or 4) read with the trilinear lookup,
  *     each half slab lit by ShadeSegment() between its end normals, the two summed, as
  *     hovrPreIntegration2.glsl does;
  *   - exactly (R2 of the slab model): the scalar on the quadratic (Eq. 2), the normal nlerp

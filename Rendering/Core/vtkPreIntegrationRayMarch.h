@@ -532,19 +532,7 @@ public:
         {
           continue;
         }
-        const double mix[3] = { (1.0 - u) * nf[0] + u * nb[0],
-          (1.0 - u) * nf[1] + u * nb[1],
-          (1.0 - u) * nf[2] + u * nb[2] };
-        double normal[3], colour[3] = { sample[0], sample[1], sample[2] }, shaded[3];
-        Grid::Normalize(mix, normal);
-        this->Model->ShadePoint(normal, this->View, colour, shaded);
-        const double alpha = -std::expm1(-sample[3] * h);
-        const double weight = transmittance * alpha;
-        for (int c = 0; c < 3; ++c)
-        {
-          rgba[c] += weight * shaded[c];
-        }
-        transmittance *= 1.0 - alpha;
+        this->CompositeStep(sample, nf, nb, u, h, transmittance, rgba);
       }
       rgba[3] = 1.0 - transmittance;
     }
@@ -595,22 +583,35 @@ public:
         const bool front = 2 * k < n;
         const double* n0 = front ? nf : nm;
         const double* n1 = front ? nm : nb;
-        const double w = front ? 2.0 * u : 2.0 * u - 1.0;
-        const double mix[3] = { (1.0 - w) * n0[0] + w * n1[0],
-          (1.0 - w) * n0[1] + w * n1[1],
-          (1.0 - w) * n0[2] + w * n1[2] };
-        double normal[3], colour[3] = { sample[0], sample[1], sample[2] }, shaded[3];
-        Grid::Normalize(mix, normal);
-        this->Model->ShadePoint(normal, this->View, colour, shaded);
-        const double alpha = -std::expm1(-sample[3] * h);
-        const double weight = transmittance * alpha;
-        for (int c = 0; c < 3; ++c)
-        {
-          rgba[c] += weight * shaded[c];
-        }
-        transmittance *= 1.0 - alpha;
+        this->CompositeStep(
+          sample, n0, n1, front ? 2.0 * u : 2.0 * u - 1.0, h, transmittance, rgba);
       }
       rgba[3] = 1.0 - transmittance;
+    }
+
+    // One midpoint step of length h with the transfer function's sample (c, tau), lit with
+    // nlerp(n0, n1, w) exactly normalised, composited front to back into rgb.
+    void CompositeStep(const double sample[4],
+      const double n0[3],
+      const double n1[3],
+      double w,
+      double h,
+      double& transmittance,
+      double rgba[4]) const
+    {
+      const double mix[3] = {
+        (1.0 - w) * n0[0] + w * n1[0], (1.0 - w) * n0[1] + w * n1[1], (1.0 - w) * n0[2] + w * n1[2]
+      };
+      double normal[3], colour[3] = { sample[0], sample[1], sample[2] }, shaded[3];
+      Grid::Normalize(mix, normal);
+      this->Model->ShadePoint(normal, this->View, colour, shaded);
+      const double alpha = -std::expm1(-sample[3] * h);
+      const double weight = transmittance * alpha;
+      for (int c = 0; c < 3; ++c)
+      {
+        rgba[c] += weight * shaded[c];
+      }
+      transmittance *= 1.0 - alpha;
     }
   };
 

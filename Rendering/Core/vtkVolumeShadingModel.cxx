@@ -311,9 +311,10 @@ void vtkVolumeShadingModel::ShadeSegment(const double moments[4][4],
   const double* J1 = moments[1];
   const double* J2 = moments[2];
   const double* J3 = moments[3];
-  // The tent integral I'' of the highlight search (line 213) from the moments at hand: the tent
-  // min(2u, 2 - 2u) projected (least squares) onto u (1 - u), the weight of J'_2 + J'_3.
-  const double tent = 3.125 * (J2[3] + J3[3]);
+  // The tent integral I'' of the highlight search (line 213) from the moments at hand: 3 u
+  // (1 - u), the weight of 3 (J'_2 + J'_3), has the tent min(2u, 2 - 2u)'s integral against any
+  // weight linear in u (both are symmetric about u = 1/2 with integral 1/2).
+  const double tent = 3.0 * (J2[3] + J3[3]);
   const double n = this->GetConeSlope(); // the cone: 1 + n (x - 1)
   const int mode = this->GradientInterpolation;
   // The segment's unshaded colour and its opacity: I_0 = J_0 + J_1, I'_0 = J'_0 + J'_1.

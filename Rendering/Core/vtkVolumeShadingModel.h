@@ -223,7 +223,8 @@ public:
    * (extinction only) as (r, g, b, J'), for normals front and back (unit or zero) and the
    * unit view direction. Ambient is Ka (J_0 + J_1). SpecularModel is ignored: segments use the
    * cone. The highlight between two samples (the third specular case) takes the paper's tent
-   * integral I'' as 3.125 (J'_2 + J'_3), the tent's least-squares projection onto u (1 - u).
+   * integral I'' as 3 (J'_2 + J'_3): equal to it where the extinction-weighted step weight is
+   * linear along the segment (thin segments), up to 1.5 times it for an opaque one.
    */
   void ShadeSegment(const double moments[4][4],
     const double front[3],

@@ -489,7 +489,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   {
     return true;
   }
-  // The sizer takes at most 64 bytes per entry, fewer than 4 or 8 float layers hold: it
+  // The sizer takes at most 64 bytes per entry, no more than 4 float layers hold, fewer than 8: it
   // sizes one layer within the limit's share of one layer.
   this->TableSizer->SetMaximumMemory(std::max(this->TableMemoryLimit / layers, 1024.0));
   this->TableSizer->SetBytesPerEntry(bytes[precision] / layers);

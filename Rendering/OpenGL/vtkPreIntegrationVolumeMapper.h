@@ -40,8 +40,8 @@
  *     normals at the slab's three samples; each half is shaded between the normals at its
  *     ends (front and middle, middle and back), so the normal follows the same arcs as first
  *     order at the same sample distance while the scalar follows the quadratic. The table
- *     holds twice first order's layers per entry (4 for constant and linear interpolation, 10
- *     for non-linear, 8 for non-linear Gooch), counted in TableMemoryLimit and in the 3D
+ *     holds twice first order's layers per entry (4 for constant and linear interpolation, 8
+ *     for non-linear), counted in TableMemoryLimit and in the 3D
  *     texture's depth, and is built on the CPU.
  *
  * Cropping, clipping planes and jittering keep working: segments honour the cropping skip

@@ -156,9 +156,10 @@ vec4 hovr_shade(int base, hovr_tableCoord_t coord, vec3 nFront, vec3 nBack)
   vec4 J3 = vec4(0.0);
 #endif
 #if HOVR_INTERPOLATION == 2 && !HOVR_GOOCH
-  // The tent integral I'' of the highlight search (line 213) from the moments at hand: the
-  // tent min(2u, 2 - 2u) projected (least squares) onto u (1 - u), the weight of J_2 + J_3.
-  float tent = 3.125 * (J2.a + J3.a);
+  // The tent integral I'' of the highlight search (line 213) from the moments at hand: 3 u
+  // (1 - u), the weight of 3 (J_2 + J_3), has the tent min(2u, 2 - 2u)'s integral against any
+  // weight linear in u (both are symmetric about u = 1/2 with integral 1/2).
+  float tent = 3.0 * (J2.a + J3.a);
 #endif
   vec4 I0 = J0 + J1; // the unshaded segment: colour and opacity
   vec3 rgb;

@@ -243,8 +243,8 @@ def main():
 
     # Shaded second order is pre-integrated too (its slab's two half arcs), with the same
     # lights: close to first order's image, far from the unlit one.
-    # Its table is sized by measurement: a fixed 256^3 with ten moment layers exceeds the
-    # 3D texture depth and is reduced after a warning.
+    # Its table is sized by measurement: a fixed 256^3 with eight moment layers would fill the
+    # 3D texture's whole depth and 1 GiB.
     display.HovrIntegration = "Second-order pre-integration"
     display.HovrTableSize = 0
     second = shaded_frame(display, "second", "shaded second order")

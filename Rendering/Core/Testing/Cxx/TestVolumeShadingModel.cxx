@@ -756,8 +756,11 @@ void TestHighlightBetweenSamples()
     const double brute = peak(fh, bh, m);
     // Cardano-free closed form against the grid: the grid's error (< 1e-12) dominates.
     check.Near(value, brute, 1e-11, "InteriorMaximum == brute-force max of p(u): " + where);
-    // The tent integral I'' as its projection onto u (1 - u): 3.125 (J'_2 + J'_3).
-    const double tent = 3.125 * (seg.M[2][3] + seg.M[3][3]);
+    // The tent integral I'' as 3 (J'_2 + J'_3), summed here from the steps themselves.
+    const double tent = seg.Integrate(
+      [](double u, const Vec&) {
+        return Vec{ 3.0 * u * (1.0 - u), 0.0, 0.0 };
+      })[0];
     const double expected = Cone(brute, n) * tent;
     const Vec rgb = Shade(model, seg, nf, nb, Z);
     check(rgb[0] > 0.0, "highlight between the samples: specular > 0, " + where);
@@ -765,25 +768,28 @@ void TestHighlightBetweenSamples()
     check.Near(Largest(rgb, [&](int) { return expected; }),
       0.0,
       1e-9,
-      "specular == cone(peak) 3.125 (J'2 + J'3), " + where);
+      "specular == cone(peak) 3 (J'2 + J'3), " + where);
   }
-  // The projection against the paper's tent: 25/24 of it for a constant step weight (the
-  // integrals of 3.125 u (1 - u) and of the tent are 25/48 and 1/2); within 10% on the
-  // generic segment, whose extinction and attenuation vary.
+  // 3 (J'_2 + J'_3) against the paper's tent integral I'': equal for a step weight linear in u
+  // (both weights are symmetric about 1/2 with integral 1/2), close on the generic segment,
+  // at most 1.5 times it on an opaque segment (the limit of a weight concentrated at u = 0,
+  // where 3 u (1 - u) and the tent have slopes 3 and 2).
   {
+    auto ratio = [](const Segment& s) { return 3.0 * (s.M[2][3] + s.M[3][3]) / s.Tent; };
+    const auto white = [](double) { return Vec{ 1.0, 1.0, 1.0 }; };
     const Segment flat = MakeSegment(
-      4096,
-      [](double) { return 1e-6; },
-      [](double) {
-        return Vec{ 1.0, 1.0, 1.0 };
-      });
-    check.Near(3.125 * (flat.M[2][3] + flat.M[3][3]) / flat.Tent,
-      25.0 / 24.0,
-      1e-6,
-      "projected tent / tent == 25/24 for a constant weight");
-    const double ratio = 3.125 * (seg.M[2][3] + seg.M[3][3]) / seg.Tent;
-    std::cout << "Projected tent / paper's tent on the generic segment: " << ratio << "\n";
-    check(std::abs(ratio - 1.0) < 0.1, "projected tent within 10% of the tent: " + Str(ratio));
+      4096, [](double) { return 1e-6; }, white);
+    check.Near(ratio(flat), 1.0, 1e-6, "3 (J'2 + J'3) == I'' for a constant weight");
+    const Segment ramp = MakeSegment(
+      4096, [](double u) { return 1e-6 * (1.0 + 3.0 * u); }, white);
+    check.Near(ratio(ramp), 1.0, 1e-6, "3 (J'2 + J'3) == I'' for a linear weight");
+    std::cout << "3 (J'2 + J'3) / I'' on the generic segment: " << ratio(seg) << "\n";
+    check(
+      std::abs(ratio(seg) - 1.0) < 0.01, "3 (J'2 + J'3) within 1% of I'' on the generic segment");
+    const Segment opaque = MakeSegment(
+      4096, [](double) { return 60.0; }, white);
+    check(ratio(opaque) > 1.0 && ratio(opaque) <= 1.5,
+      "an opaque segment: 3 (J'2 + J'3) between I'' and 1.5 I'', got " + Str(ratio(opaque)));
   }
   // Symmetric ends: the peak is p(1/2) = fh + m fh / 4 exactly.
   {
