@@ -43,8 +43,27 @@ struct Level
 
 struct Counts
 {
-  std::atomic<vtkIdType> Samples{ 0 }, Synthesis{ 0 }, Accumulates{ 0 };
+  std::atomic<vtkIdType> Samples{ 0 }, Synthesis{ 0 }, Accumulates{ 0 }, Boundary{ 0 };
 };
+
+// Whether the 0-based continuous grid index point is outside the closed box [0, box];
+// distance2 receives the squared world distance to the box.
+bool Outside(const double point[3],
+  const double box[3],
+  const double axisLength[3],
+  double& distance2)
+{
+  distance2 = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double excess = std::max(-point[a], point[a] - box[a]);
+    if (excess > 0.0)
+    {
+      distance2 += excess * excess * axisLength[a] * axisLength[a];
+    }
+  }
+  return distance2 > 0.0;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -97,6 +116,7 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   this->NumberOfOracleOperations = 0;
   this->NumberOfSynthesisOperations = 0;
   this->NumberOfAccumulateOperations = 0;
+  this->NumberOfBoundarySampleOperations = 0;
   this->FullRateSampleOperations = 0;
   this->NumberOfSlices = 0;
   this->SliceSpacing = 0.0;
@@ -279,32 +299,21 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   Counts counts;
   vtkIdType fullRate = 0;
 
-  // Full rate: level-0 pixels times the slices whose point is inside the box (closed form per
-  // pixel from the ray's clip interval, so that it costs no sampling).
+  // Per level-0 pixel, the slice coordinates t_in <= t_out where its ray enters and leaves
+  // the box (clipped to [0, i_max], which holds the box: slice 0 touches its nearest corner,
+  // i_max lies at or behind the farthest); t_in > t_out when the ray misses it. Full rate:
+  // level-0 pixels times the slices whose point is inside the box (closed form from that
+  // interval, so that it costs no sampling).
+  std::vector<double> tIn(pixels), tOut(pixels);
   {
     const Level& level0 = levels[0];
     for (size_t p = 0; p < pixels; ++p)
     {
-      const double* o = &level0.Origin[3 * p];
-      double lo = 0.0, hi = static_cast<double>(iMax);
-      for (int a = 0; a < 3 && lo <= hi; ++a)
+      ClipSlices(&level0.Origin[3 * p], step, box, static_cast<double>(iMax), tIn[p], tOut[p]);
+      if (tOut[p] >= tIn[p])
       {
-        if (step[a] == 0.0)
-        {
-          if (o[a] < 0.0 || o[a] > box[a])
-          {
-            hi = -1.0;
-          }
-          continue;
-        }
-        const double ta = -o[a] / step[a], tb = (box[a] - o[a]) / step[a];
-        lo = std::max(lo, std::min(ta, tb));
-        hi = std::min(hi, std::max(ta, tb));
-      }
-      if (hi >= lo)
-      {
-        fullRate +=
-          static_cast<vtkIdType>(std::floor(hi)) - static_cast<vtkIdType>(std::ceil(lo)) + 1;
+        fullRate += static_cast<vtkIdType>(std::floor(tOut[p])) -
+          static_cast<vtkIdType>(std::ceil(tIn[p])) + 1;
       }
     }
   }
@@ -330,7 +339,7 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
         static_cast<vtkIdType>(level.Width) * level.Height,
         [&](vtkIdType begin, vtkIdType end)
         {
-          vtkIdType samples = 0, synthesis = 0, accumulates = 0;
+          vtkIdType samples = 0, synthesis = 0, accumulates = 0, boundary = 0;
           for (vtkIdType p = begin; p < end; ++p)
           {
             double& s = level.S[p];
@@ -338,6 +347,12 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
             // SYNTHESIZE (Fig. 5): bilinear lookup of level l + 1 at the fine pixel's centre,
             // coarse coordinate x / 2 - 1/4, clamped to the edge (line 127).
             const bool synthesize = l < lslice && (!fig3 || lslice == lmax || d < accumulateBelow);
+            const double* o = &level.Origin[3 * p];
+            const double point[3] = {
+              o[0] + slice * step[0], o[1] + slice * step[1], o[2] + slice * step[2]
+            };
+            double outside = 0.0;
+            bool repair = false;
             if (synthesize)
             {
               const int x = static_cast<int>(p % level.Width),
@@ -348,24 +363,20 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
             }
             // Fig. 7 decides both tests on d before resampling (the depth value z_l, lines
             // 177-190); Fig. 3 decides accumulation on the new d.
-            const bool sample = l == lmax || d < sampleBelow;
             bool accumulate = lslice == lmax || d < accumulateBelow;
+            if (synthesize && accumulate)
+            {
+              // On a slice the pixel accumulates, a NaN from a coarse neighbour outside the box
+              // at a point inside it is sampled instead, so that NaN does not spread inwards
+              // from the silhouette and drop segments inside. (On other slices the synthesised
+              // values are stale and unused: sampling them would cost without effect.)
+              repair =
+                (std::isnan(s) || std::isnan(d)) && !Outside(point, box, axisLength, outside);
+            }
+            const bool sample = repair || l == lmax || d < sampleBelow;
             if (sample)
             {
-              const double* o = &level.Origin[3 * p];
-              const double point[3] = {
-                o[0] + slice * step[0], o[1] + slice * step[1], o[2] + slice * step[2]
-              };
-              double outside = 0.0;
-              for (int a = 0; a < 3; ++a)
-              {
-                const double excess = std::max(-point[a], point[a] - box[a]);
-                if (excess > 0.0)
-                {
-                  outside += excess * excess * axisLength[a] * axisLength[a];
-                }
-              }
-              if (outside > 0.0)
+              if (Outside(point, box, axisLength, outside))
               {
                 // Default value (line 68): NaN, a transparent segment end; the oracle is the
                 // distance to the box. Nothing is fetched.
@@ -386,19 +397,59 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
             }
             if (l == 0 && accumulate)
             {
-              // ACCUMULATECOLOR (Fig. 6): the segment of k = i - i_prev spacings.
+              // ACCUMULATECOLOR (Fig. 6): the part of the k = i - i_prev spacings from the
+              // previous accumulated slice that lies inside the box, from its entry or up to
+              // its exit where the ray crosses a face in between.
               if (previousSlice[p] >= 0)
               {
-                const vtkIdType k = slice - previousSlice[p];
-                if (!std::isnan(previous[p]) && !std::isnan(s) && k >= 1 && k <= block)
+                const vtkIdType iPrev = previousSlice[p];
+                const double front = std::max(static_cast<double>(iPrev), tIn[p]);
+                const double back = std::min(static_cast<double>(slice), tOut[p]);
+                const double length = back - front;
+                if (length > 0.0 && slice - iPrev <= block)
                 {
-                  double segment[4];
-                  pieces[k - 1].Segment(previous[p], s, 1.0, k * delta, segment);
-                  double* c = &colour[4 * p];
-                  const double transmittance = 1.0 - c[3];
-                  for (int q = 0; q < 4; ++q)
+                  // An end whose slice point is inside the box takes the slice's value; an
+                  // end on a face is fetched there (not a slice sample: counted apart). The
+                  // choice follows the samples' own inside test rather than comparing i_prev
+                  // with t_in and i with t_out, which can disagree by a rounding where a slice
+                  // point lies on a face (slice 0 on the entry face of an axis-aligned view):
+                  // a slice value that is NaN because its point rounds outside is then never
+                  // used.
+                  double sf = previous[p], sb = s, unused;
+                  const double pf[3] = {
+                    o[0] + iPrev * step[0], o[1] + iPrev * step[1], o[2] + iPrev * step[2]
+                  };
+                  if (Outside(pf, box, axisLength, unused))
                   {
-                    c[q] += transmittance * segment[q];
+                    const double q[3] = {
+                      o[0] + front * step[0], o[1] + front * step[1], o[2] + front * step[2]
+                    };
+                    sf = grid.Sample(q);
+                    ++boundary;
+                  }
+                  if (Outside(point, box, axisLength, unused))
+                  {
+                    const double q[3] = {
+                      o[0] + back * step[0], o[1] + back * step[1], o[2] + back * step[2]
+                    };
+                    sb = grid.Sample(q);
+                    ++boundary;
+                  }
+                  if (!std::isnan(sf) && !std::isnan(sb))
+                  {
+                    // A piece shorter than its whole spacings: table ceil(L) with the optical
+                    // depth scaled to L (exact for a constant scalar), as the GLSL of
+                    // first-order pre-integration composites its last piece.
+                    const double layers = std::ceil(length);
+                    double segment[4];
+                    pieces[static_cast<size_t>(layers) - 1].Segment(
+                      sf, sb, length / layers, layers * delta, segment);
+                    double* c = &colour[4 * p];
+                    const double transmittance = 1.0 - c[3];
+                    for (int q = 0; q < 4; ++q)
+                    {
+                      c[q] += transmittance * segment[q];
+                    }
                   }
                 }
                 ++accumulates;
@@ -410,6 +461,7 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
           counts.Samples += samples;
           counts.Synthesis += synthesis;
           counts.Accumulates += accumulates;
+          counts.Boundary += boundary;
         });
     }
   }
@@ -424,6 +476,7 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
   this->NumberOfOracleOperations = minimum ? 0 : counts.Samples.load();
   this->NumberOfSynthesisOperations = counts.Synthesis;
   this->NumberOfAccumulateOperations = counts.Accumulates;
+  this->NumberOfBoundarySampleOperations = counts.Boundary;
   this->FullRateSampleOperations = fullRate;
   this->WarnIfTransparent(rgba);
   return 1;
@@ -466,6 +519,33 @@ vtkIdType vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(vtkMatrix4x4* gridToWor
 }
 
 //------------------------------------------------------------------------------
+void vtkAdaptiveSamplingRayCaster::ClipSlices(const double origin[3],
+  const double step[3],
+  const double boxMax[3],
+  double lastSlice,
+  double& entry,
+  double& exit)
+{
+  // The slab method in index space: per axis the slice coordinates of the two faces.
+  entry = 0.0;
+  exit = lastSlice;
+  for (int a = 0; a < 3 && entry <= exit; ++a)
+  {
+    if (step[a] == 0.0)
+    {
+      if (origin[a] < 0.0 || origin[a] > boxMax[a])
+      {
+        exit = -1.0;
+      }
+      continue;
+    }
+    const double ta = -origin[a] / step[a], tb = (boxMax[a] - origin[a]) / step[a];
+    entry = std::max(entry, std::min(ta, tb));
+    exit = std::min(exit, std::max(ta, tb));
+  }
+}
+
+//------------------------------------------------------------------------------
 double vtkAdaptiveSamplingRayCaster::Synthesize(const double* coarse,
   int coarseWidth,
   int coarseHeight,
@@ -502,5 +582,7 @@ void vtkAdaptiveSamplingRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfOracleOperations: " << this->NumberOfOracleOperations << "\n";
   os << indent << "NumberOfSynthesisOperations: " << this->NumberOfSynthesisOperations << "\n";
   os << indent << "NumberOfAccumulateOperations: " << this->NumberOfAccumulateOperations << "\n";
+  os << indent << "NumberOfBoundarySampleOperations: " << this->NumberOfBoundarySampleOperations
+     << "\n";
   os << indent << "FullRateSampleOperations: " << this->FullRateSampleOperations << "\n";
 }

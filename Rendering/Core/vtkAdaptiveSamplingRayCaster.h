@@ -24,19 +24,32 @@
  *     skipped pixels, and can sample a pixel whose new d then fails the accumulation test;
  *   - SYNTHESIZE (Fig. 5) as bilinear interpolation of level l + 1 at the fine pixel's centre,
  *     clamped to the edge (the GL_LINEAR + GL_CLAMP_TO_EDGE lookup of line 127);
- *   - ACCUMULATECOLOR (Fig. 6): front-to-back compositing of the segment from the ray's
- *     previous accumulated slice to this one, k = i - i_prev slice spacings (1 <= k <=
- *     2^MaximumLevel), from the k-th of 2^MaximumLevel first-order tables
- *     (vtkFirstOrderPreIntegrationTable, segment length k Delta), read as
+ *   - ACCUMULATECOLOR (Fig. 6): front-to-back compositing of the part of the segment from the
+ *     ray's previous accumulated slice i_prev to this one i that lies inside the box of the
+ *     volume's points, [max(i_prev, t_in), min(i, t_out)] with t_in <= t_out the slice
+ *     coordinates where the level-0 ray enters and leaves the box (ClipSlices). An end inside
+ *     the box takes the slice's value (stored or just sampled or synthesised); an end on a face
+ *     takes the scalar fetched at the entry or exit point. A piece of length L (slice spacings,
+ *     0 < L <= 2^MaximumLevel) comes from the ceil(L)-th of 2^MaximumLevel first-order tables
+ *     (vtkFirstOrderPreIntegrationTable, segment length ceil(L) Delta), read as
  *     vtkPreIntegrationRayCaster reads a first-order table (bilinear, entries at texel centres,
- *     clamped to the edge), in double.
+ *     clamped to the edge), in double, with its optical depth scaled to L
+ *     (vtkPreIntegrationRayMarch::Scale, as first-order pre-integration composites its last
+ *     piece: exact for a constant scalar). Slice 0 touches the box's nearest corner and slice
+ *     i_max, at or behind its farthest, is accumulated by every pixel (l_slice = MaximumLevel
+ *     there), so no piece of a ray inside the box is left out. A ray that misses the box or
+ *     grazes an edge adds nothing.
  *
  * Samples outside the box of the volume's points (line 68 asks for "a default value mapped to
  * transparent") are NaN, as are NaN scalars: a segment with a NaN end contributes nothing (a
- * ramp from an invented default value would add colour that is not in the data), and a
- * synthesised value with a NaN among its four coarse neighbours is NaN too. Outside the box the
- * oracle is the distance to the box in slice spacings, clamped to [1, 2^MaximumLevel], so that
- * rays approach the entry face with shrinking steps.
+ * ramp from an invented default value would add colour that is not in the data; the entry and
+ * exit pieces above take the data's value on the face instead). A synthesised value with a NaN
+ * among its four coarse neighbours is NaN too; on a slice where it accumulates, a pixel whose
+ * own point on the slice is inside the box samples then, instead of keeping the NaN (so that
+ * NaN does not spread inwards from the silhouette, dropping segments of rays inside; on other
+ * slices its synthesised values are stale and unused). Outside the box the oracle is the distance
+ * to the box in slice spacings, clamped to [1, 2^MaximumLevel], so that rays approach the entry
+ * face with shrinking steps.
  *
  * The oracle: the point array OracleArrayName (world units, as vtkAdaptiveSamplingOracle
  * produces it), trilinearly interpolated, divided by Delta and clamped to
@@ -47,8 +60,12 @@
  * the oracle is fetched with it; points outside the box are not fetched and not counted):
  * GetNumberOfSampleOperations(), GetNumberOfOracleOperations() (equal to the samples; 0 with
  * MINIMUM, which reads no array),
- * GetNumberOfSynthesisOperations() (one per pixel synthesised, s and d together),
- * GetNumberOfAccumulateOperations() (ACCUMULATECOLOR calls on slices after the first) and
+ * GetNumberOfSynthesisOperations() (one per pixel synthesised, s and d together; a pixel
+ * that samples because its synthesised value is NaN counts one synthesis and one sample),
+ * GetNumberOfAccumulateOperations() (ACCUMULATECOLOR calls on slices after the first),
+ * GetNumberOfBoundarySampleOperations() (volume fetches at the points where level-0 rays enter
+ * or leave the box, for the pieces of ACCUMULATECOLOR that end on a face: not slice samples,
+ * so the sample counts and their ratio to the full rate keep the paper's meaning) and
  * GetFullRateSampleOperations(): level-0 pixels times the slices whose point is inside the box,
  * what a full-rate ray caster takes on the same slice grid. With MINIMUM, level l samples all
  * its pixels on every 2^l-th slice, so the samples exceed the full rate by about
@@ -152,6 +169,7 @@ public:
   vtkGetMacro(NumberOfOracleOperations, vtkIdType);
   vtkGetMacro(NumberOfSynthesisOperations, vtkIdType);
   vtkGetMacro(NumberOfAccumulateOperations, vtkIdType);
+  vtkGetMacro(NumberOfBoundarySampleOperations, vtkIdType);
   vtkGetMacro(FullRateSampleOperations, vtkIdType);
   vtkGetMacro(NumberOfSlices, vtkIdType);
   vtkGetMacro(SliceSpacing, double);
@@ -188,6 +206,19 @@ public:
     double axisLength[3]);
 
   /**
+   * The slice coordinates where the ray origin + t step (0-based continuous grid index, t in
+   * slice spacings) enters and leaves the closed box [0, boxMax], clipped to [0, lastSlice]
+   * (the slab method, per axis). exit < entry when the ray misses the box; exit == entry when
+   * it grazes an edge or corner.
+   */
+  static void ClipSlices(const double origin[3],
+    const double step[3],
+    const double boxMax[3],
+    double lastSlice,
+    double& entry,
+    double& exit);
+
+  /**
    * SYNTHESIZE of Fig. 5 at fine pixel (x, y) from a coarse level of coarseWidth x
    * coarseHeight values (row-major): the bilinear lookup of the coarse level at the fine pixel's
    * centre, (x / 2 - 1/4, y / 2 - 1/4) in coarse pixels, clamped to the edge (line 127).
@@ -211,6 +242,7 @@ protected:
   vtkIdType NumberOfOracleOperations = 0;
   vtkIdType NumberOfSynthesisOperations = 0;
   vtkIdType NumberOfAccumulateOperations = 0;
+  vtkIdType NumberOfBoundarySampleOperations = 0;
   vtkIdType FullRateSampleOperations = 0;
   vtkIdType NumberOfSlices = 0;
   double SliceSpacing = 0.0;

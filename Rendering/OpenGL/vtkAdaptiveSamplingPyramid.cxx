@@ -242,6 +242,7 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
   vtkShaderProgram* program = this->Pass->Program;
   this->Context->GetShaderCache()->ReadyShaderProgram(program);
   program->SetUniformi("maxLevel", lmax);
+  program->SetUniformi("lastSlice", static_cast<int>(frame.LastSlice));
   program->SetUniformi("segmentTables", 1 << lmax);
   program->SetUniformi("tableSize", frame.TableSize);
   program->SetUniformi("minimumOracle", frame.MinimumOracle ? 1 : 0);
@@ -332,10 +333,10 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
 }
 
 //------------------------------------------------------------------------------
-void vtkAdaptiveSamplingPyramid::ReadCounts(vtkIdType totals[3])
+void vtkAdaptiveSamplingPyramid::ReadCounts(vtkIdType totals[4])
 {
   // Per pixel the counters are integers below 2^24, exact in float32; summed in double.
-  double sums[3] = { 0, 0, 0 };
+  double sums[4] = { 0, 0, 0, 0 };
   for (Level& level : this->Levels)
   {
     std::vector<float> counts(static_cast<size_t>(level.Width) * level.Height * 4);
@@ -348,9 +349,10 @@ void vtkAdaptiveSamplingPyramid::ReadCounts(vtkIdType totals[3])
       sums[0] += counts[p];
       sums[1] += counts[p + 1];
       sums[2] += counts[p + 2];
+      sums[3] += counts[p + 3];
     }
   }
-  for (int c = 0; c < 3; ++c)
+  for (int c = 0; c < 4; ++c)
   {
     totals[c] = static_cast<vtkIdType>(sums[c]);
   }

@@ -69,10 +69,10 @@ public:
   vtkIdType Draw(const Frame& frame);
 
   /**
-   * Sums of the per-pixel counters of the last Draw() with Count on: samples, syntheses and
-   * accumulates.
+   * Sums of the per-pixel counters of the last Draw() with Count on: samples, syntheses,
+   * accumulates and boundary fetches (entry and exit scalars of level-0 pieces).
    */
-  void ReadCounts(vtkIdType totals[3]);
+  void ReadCounts(vtkIdType totals[4]);
 
   /**
    * The level-0 premultiplied image (C, alpha) of the last Draw(), padded size.

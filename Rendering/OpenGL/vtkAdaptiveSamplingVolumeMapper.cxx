@@ -53,23 +53,13 @@ vtkIdType FullRateSamples(const vtkAdaptiveSamplingPyramid::Frame& frame, int wi
     {
       const double px = 2.0 * (x + 0.5) / frame.Width - 1.0;
       const double py = 2.0 * (y + 0.5) / frame.Height - 1.0;
-      double lo = 0.0, hi = static_cast<double>(frame.LastSlice);
-      for (int a = 0; a < 3 && lo <= hi; ++a)
+      double o[3], lo, hi;
+      for (int a = 0; a < 3; ++a)
       {
-        const double o = frame.RayOrigin[a] + px * frame.RayAxisX[a] + py * frame.RayAxisY[a];
-        const double step = frame.SliceStep[a];
-        if (step == 0.0)
-        {
-          if (o < 0.0 || o > frame.BoxMax[a])
-          {
-            hi = -1.0;
-          }
-          continue;
-        }
-        const double ta = -o / step, tb = (frame.BoxMax[a] - o) / step;
-        lo = std::max(lo, std::min(ta, tb));
-        hi = std::min(hi, std::max(ta, tb));
+        o[a] = frame.RayOrigin[a] + px * frame.RayAxisX[a] + py * frame.RayAxisY[a];
       }
+      vtkAdaptiveSamplingRayCaster::ClipSlices(
+        o, frame.SliceStep, frame.BoxMax, static_cast<double>(frame.LastSlice), lo, hi);
       if (hi >= lo)
       {
         samples +=
@@ -167,6 +157,7 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   this->LastFrameSampleOperations = -1;
   this->LastFrameSynthesisOperations = -1;
   this->LastFrameAccumulateOperations = -1;
+  this->LastFrameBoundarySampleOperations = -1;
   this->LastFrameFullRateSampleOperations = -1;
   this->NumberOfSlices = 0;
   this->SliceSpacing = 0.0;
@@ -535,11 +526,12 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   this->LastFramePasses = internal.Pyramid.Draw(frame);
   if (this->CountOperations)
   {
-    vtkIdType totals[3];
+    vtkIdType totals[4];
     internal.Pyramid.ReadCounts(totals);
     this->LastFrameSampleOperations = totals[0];
     this->LastFrameSynthesisOperations = totals[1];
     this->LastFrameAccumulateOperations = totals[2];
+    this->LastFrameBoundarySampleOperations = totals[3];
     this->LastFrameFullRateSampleOperations = FullRateSamples(frame, paddedWidth, paddedHeight);
   }
   state->PopFramebufferBindings();
@@ -580,6 +572,8 @@ void vtkAdaptiveSamplingVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastFrameSampleOperations: " << this->LastFrameSampleOperations << "\n";
   os << indent << "LastFrameSynthesisOperations: " << this->LastFrameSynthesisOperations << "\n";
   os << indent << "LastFrameAccumulateOperations: " << this->LastFrameAccumulateOperations << "\n";
+  os << indent << "LastFrameBoundarySampleOperations: " << this->LastFrameBoundarySampleOperations
+     << "\n";
   os << indent << "LastFrameFullRateSampleOperations: " << this->LastFrameFullRateSampleOperations
      << "\n";
   os << indent << "NumberOfSlices: " << this->NumberOfSlices << "\n";

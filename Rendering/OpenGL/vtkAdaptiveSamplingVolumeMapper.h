@@ -17,13 +17,19 @@
  *     (vtkAdaptiveSamplingPyramid) that runs Fig. 7 for every pixel: synthesis from level
  *     l + 1 below l_slice (Fig. 5, the bilinear lookup at the fine pixel's centre, clamped to
  *     the edge), the sample and oracle decision on the stored d, and on level 0 the
- *     front-to-back compositing of the segment since the ray's previous accumulated slice
- *     from the k-th of 2^MaximumLevel first-order tables (Fig. 6). Level l + 1 is read while
+ *     front-to-back compositing of the part inside the box of the segment since the ray's
+ *     previous accumulated slice, from the ceil(L)-th of 2^MaximumLevel first-order tables
+ *     with its optical depth scaled to its length L in slice spacings (Fig. 6; an end where
+ *     the ray enters or leaves the box takes the scalar fetched there, so no piece inside
+ *     the box is lost: vtkAdaptiveSamplingRayCaster's rule). Level l + 1 is read while
  *     level l is written (separate textures); each level's state (s, d), the level-0
  *     accumulation (C, alpha) and (s_prev, i_prev) are float32 textures written through
  *     multiple render targets and swapped after each pass;
  *   - samples outside the box of the volume's points are NaN (a segment with a NaN end adds
- *     nothing); there the oracle is the distance to the box; positions, the oracle and d are
+ *     nothing; the entry and exit pieces above replace such ends by the value on the face);
+ *     there the oracle is the distance to the box; on a slice a pixel accumulates, a NaN
+ *     synthesised from a coarse neighbour outside the box at a point inside it is sampled
+ *     instead; positions, the entry and exit slice coordinates, the oracle and d are
  *     evaluated in double (GL_ARB_gpu_shader_fp64) so that the decisions, and hence the
  *     counts, are those of the CPU core.
  *
@@ -139,13 +145,15 @@ public:
    * Operation counts of the last frame drawn, as vtkAdaptiveSamplingRayCaster counts them
    * (one SAMPLE = one volume fetch at a point inside the box, the oracle fetched with it; one
    * SYNTHESIS per pixel synthesised; one ACCUMULATE per ACCUMULATECOLOR call on a slice after
-   * the ray's first), and the full-rate count (level-0 pixels of the viewport's padded image
-   * times the slices whose point is inside the box). -1 when CountOperations is off or the
-   * last frame drew nothing.
+   * the ray's first; one BOUNDARY fetch per scalar fetched where a level-0 ray enters or
+   * leaves the box, not a slice sample), and the full-rate count (level-0 pixels of the viewport's
+   * padded image times the slices whose point is inside the box). -1 when CountOperations is off or
+   * the last frame drew nothing.
    */
   vtkGetMacro(LastFrameSampleOperations, vtkIdType);
   vtkGetMacro(LastFrameSynthesisOperations, vtkIdType);
   vtkGetMacro(LastFrameAccumulateOperations, vtkIdType);
+  vtkGetMacro(LastFrameBoundarySampleOperations, vtkIdType);
   vtkGetMacro(LastFrameFullRateSampleOperations, vtkIdType);
   ///@}
 
@@ -192,6 +200,7 @@ protected:
   vtkIdType LastFrameSampleOperations = -1;
   vtkIdType LastFrameSynthesisOperations = -1;
   vtkIdType LastFrameAccumulateOperations = -1;
+  vtkIdType LastFrameBoundarySampleOperations = -1;
   vtkIdType LastFrameFullRateSampleOperations = -1;
   vtkIdType NumberOfSlices = 0;
   double SliceSpacing = 0.0;

@@ -8,7 +8,7 @@
 // here:
 //   0 state:  (s as table index, d high, d low, terminated): d in slice spacings is kept as a
 //             float pair so that it holds the double the CPU core decides on;
-//   1 counts: (samples, syntheses, accumulates, 0) since the frame began, when
+//   1 counts: (samples, syntheses, accumulates, boundary fetches) since the frame began, when
 //             countOperations is 1 (otherwise neither read nor drawn);
 //   2 level 0 only, previous: (s_prev as table index, i_prev, 0, 0) (Fig. 6);
 //   3 level 0 only, colour: premultiplied (C, alpha).
@@ -23,6 +23,7 @@ uniform int level;      // l
 uniform int sliceLevel; // l_slice (Table 1)
 uniform int maxLevel;   // l_max
 uniform int slice;      // i_slice
+uniform int lastSlice;  // i_max
 uniform int segmentTables; // 2^l_max
 uniform int tableSize;
 uniform int minimumOracle;    // 1: d = 1 everywhere
@@ -105,6 +106,44 @@ double hovrSampleOracle(dvec3 p)
   return c0 + w.z * (c1 - c0);
 }
 
+// Whether p (0-based continuous grid index) lies outside the closed box [0, boxMax]; outside
+// receives the squared world distance to the box.
+bool hovrOutside(dvec3 p, out double outside)
+{
+  dvec3 excess = max(-p, p - boxMax);
+  outside = 0.0lf;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (excess[a] > 0.0lf)
+    {
+      outside += excess[a] * excess[a] * axisLength[a] * axisLength[a];
+    }
+  }
+  return outside > 0.0lf;
+}
+
+// The slice coordinates where the ray o + t sliceStep enters and leaves the box, clipped to
+// [0, i_max] (the slab method per axis): vtkAdaptiveSamplingRayCaster::ClipSlices.
+void hovrClipSlices(dvec3 o, out double tEntry, out double tExit)
+{
+  tEntry = 0.0lf;
+  tExit = double(lastSlice);
+  for (int a = 0; a < 3 && tEntry <= tExit; ++a)
+  {
+    if (sliceStep[a] == 0.0lf)
+    {
+      if (o[a] < 0.0lf || o[a] > boxMax[a])
+      {
+        tExit = -1.0lf;
+      }
+      continue;
+    }
+    double ta = -o[a] / sliceStep[a], tb = (boxMax[a] - o[a]) / sliceStep[a];
+    tEntry = max(tEntry, min(ta, tb));
+    tExit = min(tExit, max(ta, tb));
+  }
+}
+
 // The segment of k slice spacings from table index sf to sb: the k-th table read as
 // vtkPreIntegrationRayMarch::TablePieces reads a first-order table (bilinear, entries at
 // texel centres, clamped to the edge entries).
@@ -135,9 +174,19 @@ void main()
   float s = state.x;
   double d = double(state.y) + double(state.z);
 
+  // This pixel's ray (Fig. 5, lines 137-138): through level-0 pixel
+  // (2^l (x + 1/2) - 1/2, 2^l (y + 1/2) - 1/2); o on slice 0, p on this slice.
+  double scale = double(1 << level);
+  double px = 2.0lf * (scale * (double(pixel.x) + 0.5lf)) / double(imageSize.x) - 1.0lf;
+  double py = 2.0lf * (scale * (double(pixel.y) + 0.5lf)) / double(imageSize.y) - 1.0lf;
+  dvec3 o = rayOrigin + px * rayAxisX + py * rayAxisY;
+  dvec3 p = o + double(slice) * sliceStep;
+  double outside = 0.0lf;
+
   // SYNTHESIZE (Fig. 5): bilinear lookup of level + 1 at this pixel's centre, coarse
   // coordinate x / 2 - 1/4, clamped to the edge (line 127); NaN spreads from any neighbour.
-  if (level < sliceLevel)
+  bool synthesized = level < sliceLevel;
+  if (synthesized)
   {
     ivec2 coarseSize = textureSize(coarseState, 0);
     ivec2 odd = pixel & 1;
@@ -193,26 +242,16 @@ void main()
   }
 
   // Fig. 7 decides both tests on d before it is resampled (lines 177-190).
-  bool sampleHere = (level == maxLevel || d < double(1 << (level + 1))) && !terminated;
   bool accumulate = (sliceLevel == maxLevel || d < double(1 << (sliceLevel + 1))) && !terminated;
+  // On a slice the pixel accumulates, a NaN from a coarse neighbour outside the box at a point
+  // inside it is sampled instead (vtkAdaptiveSamplingRayCaster's rule).
+  bool repair = synthesized && accumulate && (isnan(s) || isnan(d)) && !hovrOutside(p, outside);
+  bool sampleHere =
+    (repair || level == maxLevel || d < double(1 << (level + 1))) && !terminated;
   if (sampleHere)
   {
-    // SAMPLE and ORACLE (Fig. 5, lines 137-138): the ray through level-0 pixel
-    // (2^l (x + 1/2) - 1/2, 2^l (y + 1/2) - 1/2), on this slice.
-    double scale = double(1 << level);
-    double px = 2.0lf * (scale * (double(pixel.x) + 0.5lf)) / double(imageSize.x) - 1.0lf;
-    double py = 2.0lf * (scale * (double(pixel.y) + 0.5lf)) / double(imageSize.y) - 1.0lf;
-    dvec3 p = rayOrigin + px * rayAxisX + py * rayAxisY + double(slice) * sliceStep;
-    dvec3 excess = max(-p, p - boxMax);
-    double outside = 0.0lf;
-    for (int a = 0; a < 3; ++a)
-    {
-      if (excess[a] > 0.0lf)
-      {
-        outside += excess[a] * excess[a] * axisLength[a] * axisLength[a];
-      }
-    }
-    if (outside > 0.0lf)
+    // SAMPLE and ORACLE (Fig. 5) on this slice.
+    if (hovrOutside(p, outside))
     {
       // Line 68's default value: NaN, a transparent segment end. The oracle is the distance
       // to the box, so that rays approach the entry face with shrinking steps.
@@ -230,13 +269,46 @@ void main()
 
   if (level == 0 && accumulate)
   {
-    // ACCUMULATECOLOR (Fig. 6): the segment of k = i - i_prev slice spacings.
+    // ACCUMULATECOLOR (Fig. 6): the part of the k = i - i_prev slice spacings inside the box,
+    // [max(i_prev, t_in), min(i, t_out)]; an end on a face takes the scalar fetched there
+    // (which end is on a face: the slice points' own inside test, as in the CPU core).
     if (previous.y >= 0.0)
     {
-      int k = slice - int(previous.y);
-      if (!isnan(previous.x) && !isnan(s) && k >= 1 && k <= segmentTables)
+      int previousSlice = int(previous.y);
+      double tIn, tOut;
+      hovrClipSlices(o, tIn, tOut);
+      double front = max(double(previousSlice), tIn);
+      double back = min(double(slice), tOut);
+      double pieceLength = back - front;
+      if (pieceLength > 0.0lf && slice - previousSlice <= segmentTables)
       {
-        colour += (1.0 - colour.a) * hovrSegment(previous.x, s, k);
+        float sf = previous.x, sb = s;
+        double unused;
+        if (hovrOutside(o + double(previousSlice) * sliceStep, unused))
+        {
+          sf = hovrSampleVolume(o + front * sliceStep);
+          counts.w += 1.0;
+        }
+        if (hovrOutside(p, unused))
+        {
+          sb = hovrSampleVolume(o + back * sliceStep);
+          counts.w += 1.0;
+        }
+        if (!isnan(sf) && !isnan(sb))
+        {
+          // Table ceil(L) with the optical depth scaled to L (exact for a constant scalar),
+          // as first-order pre-integration composites its last piece.
+          double layers = ceil(pieceLength);
+          vec4 segment = hovrSegment(sf, sb, int(layers));
+          float fraction = float(pieceLength / layers);
+          if (fraction < 1.0)
+          {
+            float alpha = 1.0 - pow(max(1.0 - segment.a, 0.0), fraction);
+            segment.rgb *= segment.a > 1e-6 ? alpha / segment.a : fraction;
+            segment.a = alpha;
+          }
+          colour += (1.0 - colour.a) * segment;
+        }
       }
       counts.z += 1.0;
     }

@@ -415,6 +415,7 @@ class AdaptivePyramidCPUMethod(AdaptiveMethod):
         return {"sample_ops": caster.GetNumberOfSampleOperations(),
                 "synthesis_ops": caster.GetNumberOfSynthesisOperations(),
                 "accumulate_ops": caster.GetNumberOfAccumulateOperations(),
+                "boundary_sample_ops": caster.GetNumberOfBoundarySampleOperations(),
                 "full_rate_samples": full,
                 "sample_ratio_to_full": caster.GetNumberOfSampleOperations() / full
                 if full > 0 else float("nan"),
@@ -471,6 +472,7 @@ class AdaptivePyramidMethod(AdaptiveMethod):
         stats = {"sample_ops": mapper.GetLastFrameSampleOperations(),
                  "synthesis_ops": mapper.GetLastFrameSynthesisOperations(),
                  "accumulate_ops": mapper.GetLastFrameAccumulateOperations(),
+                 "boundary_sample_ops": mapper.GetLastFrameBoundarySampleOperations(),
                  "full_rate_samples": mapper.GetLastFrameFullRateSampleOperations()}
         mapper.CountOperationsOff()
         if stats["sample_ops"] < 0:

@@ -9,7 +9,10 @@
 //   3. Gaussian blobs in empty space with a distance-to-features oracle: few samples, an error
 //      against vtkVolumeReferenceIntegrator close to the full-rate image's;
 //   4. Fig. 3 and Fig. 7 count differently and both stay close to the reference;
-//   5. bad input: clear errors and an empty image.
+//   5. bad input: clear errors and an empty image;
+//   6. entry and exit pieces: a constant volume gives exactly 1 - exp(-sigma chord) per pixel
+//      (oblique and axis-aligned views, every oracle, Fig. 7 and Fig. 3), a linear ramp the
+//      error of first-order pre-integration at the same step.
 #include "vtkAdaptiveSamplingRayCaster.h"
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
@@ -21,6 +24,7 @@
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkPreIntegrationRayCaster.h"
 #include "vtkPreIntegrationRayMarch.h"
 #include "vtkRGBAErrorMetrics.h"
 #include "vtkVolumeProperty.h"
@@ -156,13 +160,16 @@ bool AllZero(vtkImageData* image)
 
 // The full-rate first-order composite of the slice grid, written here from the paper's
 // definition (slices from the nearest box corner, one Delta apart; segments between
-// consecutive slices with both ends inside the box, from a table of length Delta).
+// consecutive slices, from a table of length Delta), cut to the ray's chord through the box:
+// a segment that the box's entry or exit splits keeps its part inside, with the scalar taken
+// on the face and its optical depth scaled to its length. boundary counts those face values.
 void FullRate(vtkImageData* volume,
   vtkVolumeProperty* property,
   vtkCamera* camera,
   int size,
   std::vector<double>& image,
-  vtkIdType& samples)
+  vtkIdType& samples,
+  vtkIdType& boundary)
 {
   vtkNew<vtkCameraRayModel> rays;
   rays->SetCamera(camera);
@@ -205,6 +212,7 @@ void FullRate(vtkImageData* volume,
   grid.Dims[0] = grid.Dims[1] = grid.Dims[2] = N;
   image.assign(4 * static_cast<size_t>(size) * size, 0.0);
   samples = 0;
+  boundary = 0;
   for (int j = 0; j < size; ++j)
   {
     for (int i = 0; i < size; ++i)
@@ -212,6 +220,16 @@ void FullRate(vtkImageData* volume,
       double o[3], v[3];
       rays->GetPixelRay(i, j, o, v);
       double* c = &image[4 * (static_cast<size_t>(j) * size + i)];
+      double t0, t1; // the chord (world distance from o)
+      if (!grid.Clip(o, v, t0, t1))
+      {
+        continue;
+      }
+      auto at = [&](double t)
+      {
+        const double p[3] = { o[0] + t * v[0], o[1] + t * v[1], o[2] + t * v[2] };
+        return grid.Sample(p);
+      };
       double previous = std::numeric_limits<double>::quiet_NaN();
       for (int k = 0; k < slices; ++k)
       {
@@ -221,10 +239,14 @@ void FullRate(vtkImageData* volume,
           p[0] >= 0 && p[1] >= 0 && p[2] >= 0 && p[0] <= N - 1 && p[1] <= N - 1 && p[2] <= N - 1;
         const double s = inside ? grid.Sample(p) : std::numeric_limits<double>::quiet_NaN();
         samples += inside;
-        if (!std::isnan(previous) && !std::isnan(s))
+        const double front = std::max(t - delta, t0), back = std::min(t, t1);
+        if (k > 0 && back > front)
         {
+          const double sf = std::isnan(previous) ? at(front) : previous;
+          const double sb = inside ? s : at(back);
+          boundary += std::isnan(previous) + !inside;
           double segment[4];
-          pieces.Segment(previous, s, 1.0, delta, segment);
+          pieces.Segment(sf, sb, (back - front) / delta, delta, segment);
           const double transmittance = 1.0 - c[3];
           for (int q = 0; q < 4; ++q)
           {
@@ -236,6 +258,105 @@ void FullRate(vtkImageData* volume,
     }
   }
 }
+}
+
+// A constant scalar on a box of points with non-unit spacing and an offset origin, and an
+// oracle array: either a constant (every pixel asks for 2^l_max) or a field that varies
+// through the whole range of d, so that all levels sample somewhere.
+constexpr double ConstantValue = 0.5;
+const int ConstantDims[3] = { 40, 33, 27 };
+const double ConstantSpacing[3] = { 1.0, 1.25, 0.8 };
+const double ConstantOrigin[3] = { -5.0, 2.0, 10.0 };
+
+vtkSmartPointer<vtkImageData> MakeConstant(bool varyingOracle, bool ramp = false)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(ConstantDims[0], ConstantDims[1], ConstantDims[2]);
+  image->SetSpacing(ConstantSpacing[0], ConstantSpacing[1], ConstantSpacing[2]);
+  image->SetOrigin(ConstantOrigin[0], ConstantOrigin[1], ConstantOrigin[2]);
+  const vtkIdType n = image->GetNumberOfPoints();
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("Scalars");
+  scalars->SetNumberOfTuples(n);
+  scalars->FillValue(static_cast<float>(ConstantValue));
+  if (ramp) // linear along x, from 0 to 1
+  {
+    for (vtkIdType id = 0; id < n; ++id)
+    {
+      scalars->SetValue(id, static_cast<float>((id % ConstantDims[0]) / (ConstantDims[0] - 1.0)));
+    }
+  }
+  vtkNew<vtkFloatArray> oracle;
+  oracle->SetName("OracleDistance");
+  oracle->SetNumberOfTuples(n);
+  for (vtkIdType id = 0; id < n; ++id)
+  {
+    double p[3];
+    image->GetPoint(id, p);
+    oracle->SetValue(id,
+      varyingOracle
+        ? static_cast<float>(std::fmod(0.37 * p[0] + 0.23 * p[1] + 0.11 * p[2] + 50.0, 7.0))
+        : 1000.0f);
+  }
+  image->GetPointData()->SetScalars(scalars);
+  image->GetPointData()->AddArray(oracle);
+  return image;
+}
+
+// Per pixel, the exact image of the constant volume: opacity 1 - exp(-sigma chord) with the
+// chord of the ray through the box of points and sigma = -ln(1 - alpha(c)) / U, colour
+// rgb(c) times that opacity. Returns the largest difference over the four channels.
+double ConstantError(vtkImageData* image,
+  vtkImageData* volume,
+  vtkVolumeProperty* property,
+  vtkCamera* camera,
+  int size)
+{
+  vtkNew<vtkCameraRayModel> rays;
+  rays->SetCamera(camera);
+  rays->SetImageSize(size, size);
+  rays->Prepare();
+  double bounds[6];
+  volume->GetBounds(bounds);
+  const double alpha = property->GetScalarOpacity()->GetValue(ConstantValue);
+  const double sigma = -std::log(1.0 - alpha) / property->GetScalarOpacityUnitDistance();
+  double rgb[3];
+  property->GetRGBTransferFunction()->GetColor(ConstantValue, rgb);
+  vtkFloatArray* rgba = RGBA(image);
+  if (!rgba || rgba->GetNumberOfTuples() != static_cast<vtkIdType>(size) * size)
+  {
+    return 1e30;
+  }
+  double worst = 0.0;
+  for (int j = 0; j < size; ++j)
+  {
+    for (int i = 0; i < size; ++i)
+    {
+      double o[3], v[3];
+      rays->GetPixelRay(i, j, o, v);
+      double t0 = -1e300, t1 = 1e300;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (v[a] == 0.0)
+        {
+          t1 = o[a] < bounds[2 * a] || o[a] > bounds[2 * a + 1] ? -1e300 : t1;
+          continue;
+        }
+        const double ta = (bounds[2 * a] - o[a]) / v[a], tb = (bounds[2 * a + 1] - o[a]) / v[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      const double chord = std::max(t1 - t0, 0.0);
+      const double opacity = -std::expm1(-sigma * chord);
+      const double expected[4] = { rgb[0] * opacity, rgb[1] * opacity, rgb[2] * opacity, opacity };
+      for (int c = 0; c < 4; ++c)
+      {
+        worst = std::max(worst,
+          std::abs(rgba->GetComponent(static_cast<vtkIdType>(j) * size + i, c) - expected[c]));
+      }
+    }
+  }
+  return worst;
 }
 
 int TestAdaptiveSamplingRayCaster(int, char*[])
@@ -334,8 +455,8 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
   //----------------------------------------------------------------------------
   // 1. The min. oracle: full-rate first-order pre-integration, plus the pyramid's samples.
   std::vector<double> independent;
-  vtkIdType independentSamples = 0;
-  FullRate(volume, property, camera, size, independent, independentSamples);
+  vtkIdType independentSamples = 0, independentBoundary = 0;
+  FullRate(volume, property, camera, size, independent, independentSamples, independentBoundary);
   caster->SetOracleModeToMinimum();
   vtkNew<vtkImageData> fullRate;
   {
@@ -377,6 +498,12 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
         "full-rate count = the independent composite's inside samples (" +
           std::to_string(caster->GetFullRateSampleOperations()) + " vs " +
           std::to_string(independentSamples) + ")");
+      // Every level-0 ray accumulates on every slice: one fetch where it enters the box and
+      // one where it leaves, unless it does so on a slice.
+      check(caster->GetNumberOfBoundarySampleOperations() == independentBoundary,
+        "min. oracle: boundary fetches = the independent composite's (" +
+          std::to_string(caster->GetNumberOfBoundarySampleOperations()) + " vs " +
+          std::to_string(independentBoundary) + ")");
       // Coarse rays pass through block centres, so the inside counts of a level are those of
       // its pixels' central rays, not exactly 1/8^l of level 0's: a tolerance of 0.5%.
       check.Near(overhead,
@@ -418,7 +545,11 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
               << ", RMSE against the reference " << rmse << " (" << rmse / fullRMSE
               << " x full rate's), against full rate " << RMSE(caster->GetOutput(), fullRate)
               << "\n";
-    check(ratio <= 0.1, name + ": samples at most 0.1 x full rate, got " + std::to_string(ratio));
+    // About 0.085 x full rate are the oracle's; the rest are samples that replace a NaN
+    // synthesised at a point inside the box near the outline of each slice's cross-section,
+    // a band of a few pixels per level along an outline that is long for a 96 x 96 image.
+    check(
+      ratio <= 0.125, name + ": samples at most 0.125 x full rate, got " + std::to_string(ratio));
     check(rmse <= 1.5 * fullRMSE,
       name + ": RMSE at most 1.5 x the full-rate image's, got " + std::to_string(rmse / fullRMSE));
     check(caster->GetNumberOfOracleOperations() == caster->GetNumberOfSampleOperations(),
@@ -433,7 +564,10 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
   // An oracle that asks for 2^l_max everywhere inside: inside the box only
   // the top level samples, on every 2^l_max-th slice, 1/8^3 of the full rate; outside, the
   // oracle is the distance to the box, so rays reach the entry face with shrinking steps on
-  // finer levels, which adds samples near the faces (a few times 1/512 on this small volume).
+  // finer levels, which adds samples near the faces (a few times 1/512 on this small volume),
+  // and on every 2^l_max-th slice the finer levels sample where a NaN from a coarse
+  // neighbour outside the box meets a point inside (a band along each cross-section's
+  // outline: about 1/25 of the full rate here).
   // The blobs are then undersampled and the error bound above fails: it measures the oracle.
   {
     vtkNew<vtkImageData> coarse;
@@ -448,10 +582,129 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
     std::cout << "blobs, d = 2^l_max everywhere: samples " << caster->GetNumberOfSampleOperations()
               << " (" << ratio << " x full rate, 1/512 = " << 1.0 / 512 << "), RMSE " << rmse
               << " (" << rmse / fullRMSE << " x full rate's)\n";
-    check(ratio >= 1.0 / 512.0 && ratio <= 0.02,
-      "d = 2^l_max: samples between full rate / 512 and 2% of it, got " + std::to_string(ratio));
+    check(ratio >= 1.0 / 512.0 && ratio <= 0.05,
+      "d = 2^l_max: samples between full rate / 512 and 5% of it, got " + std::to_string(ratio));
     check(rmse > 1.5 * fullRMSE, "d = 2^l_max: the undersampled image fails the error bound");
     caster->SetInputData(volume);
+  }
+
+  //----------------------------------------------------------------------------
+  // 6. Entry and exit pieces: a constant scalar gives, per pixel, exactly the exponential of
+  // its chord through the box, whatever the oracle, the algorithm and the view (oblique, where
+  // rays enter and leave between slices, and along an axis, where slice 0 lies on the entry
+  // face). Every piece comes from the table of a constant (its diagonal entry, exact up to its
+  // float32 rounding) with the optical depth scaled to its length, which is exact for a
+  // constant; the float32 entries and image leave ~1e-7 per piece, a few dozen pieces per ray:
+  // a tolerance of 2e-6. A segment dropped at a face (a quarter of a slice spacing at least
+  // where it matters) or a NaN from the silhouette misses 1e-3 or more.
+  {
+    vtkNew<vtkVolumeProperty> flat;
+    vtkNew<vtkColorTransferFunction> color;
+    color->AddRGBPoint(0.0, 0.9, 0.6, 0.3);
+    color->AddRGBPoint(1.0, 0.9, 0.6, 0.3);
+    vtkNew<vtkPiecewiseFunction> opacity;
+    opacity->AddPoint(0.0, 0.0);
+    opacity->AddPoint(1.0, 0.4);
+    flat->SetColor(color);
+    flat->SetScalarOpacity(opacity);
+    flat->SetScalarOpacityUnitDistance(15.0);
+    const int constantSize = 64;
+    const double centre[3] = { ConstantOrigin[0] + 0.5 * (ConstantDims[0] - 1) * ConstantSpacing[0],
+      ConstantOrigin[1] + 0.5 * (ConstantDims[1] - 1) * ConstantSpacing[1],
+      ConstantOrigin[2] + 0.5 * (ConstantDims[2] - 1) * ConstantSpacing[2] };
+    struct View
+    {
+      const char* Name;
+      double Direction[3], Up[3];
+    };
+    const View views[3] = { { "oblique", { 100.0, 60.0, 80.0 }, { 0, 0, 1 } },
+      { "along -z", { 0.0, 0.0, 100.0 }, { 0, 1, 0 } },
+      { "along +x", { -100.0, 0.0, 0.0 }, { 0, 0, 1 } } };
+    vtkNew<vtkCamera> view;
+    view->SetFocalPoint(centre[0], centre[1], centre[2]);
+    view->SetParallelProjection(true);
+    view->SetParallelScale(31.0);
+    vtkNew<vtkAdaptiveSamplingRayCaster> flatCaster;
+    flatCaster->SetVolumeProperty(flat);
+    flatCaster->SetCamera(view);
+    flatCaster->SetImageSize(constantSize, constantSize);
+    for (const View& v : views)
+    {
+      view->SetPosition(
+        centre[0] + v.Direction[0], centre[1] + v.Direction[1], centre[2] + v.Direction[2]);
+      view->SetViewUp(v.Up[0], v.Up[1], v.Up[2]);
+      for (int oracle = 0; oracle < 3; ++oracle)
+      {
+        auto constant = MakeConstant(oracle == 2);
+        flatCaster->SetInputData(constant);
+        flatCaster->SetOracleMode(oracle == 0 ? vtkAdaptiveSamplingRayCaster::ORACLE_MINIMUM
+                                              : vtkAdaptiveSamplingRayCaster::ORACLE_ARRAY);
+        for (int algorithm = 0; algorithm < 2; ++algorithm)
+        {
+          flatCaster->SetAlgorithm(algorithm);
+          flatCaster->SetMaximumLevel(3);
+          flatCaster->Update();
+          const double error =
+            ConstantError(flatCaster->GetOutput(), constant, flat, view, constantSize);
+          const std::string name = std::string("constant volume, ") + v.Name +
+            (oracle == 0      ? ", min. oracle"
+                : oracle == 1 ? ", oracle 2^l_max"
+                              : ", varying oracle") +
+            (algorithm ? ", Fig. 3" : ", Fig. 7");
+          std::cout << name << ": samples " << flatCaster->GetNumberOfSampleOperations()
+                    << ", boundary fetches " << flatCaster->GetNumberOfBoundarySampleOperations()
+                    << ", full rate " << flatCaster->GetFullRateSampleOperations()
+                    << ", largest difference from 1 - exp(-sigma chord) " << error << "\n";
+          check.Near(error, 0.0, 2e-6, name + ": exact for a constant scalar");
+        }
+      }
+    }
+    messages.ExpectNone(check, "rendering the constant volume");
+
+    // A linear ramp (along x) on the oblique view: the pyramid against the reference
+    // integrator, next to first-order pre-integration from the box entry at the same step
+    // (vtkPreIntegrationRayCaster, the twin of the mapper whose entry and exit pieces the
+    // pyramid's follow). Both are exact on whole segments of a linear scalar but for the
+    // table's bilinear lookup, and approximate on partial pieces (the depth scaling is exact
+    // for a constant only); a piece dropped at a face costs far more (the bound fails then).
+    view->SetPosition(centre[0] + 100.0, centre[1] + 60.0, centre[2] + 80.0);
+    view->SetViewUp(0, 0, 1);
+    auto ramp = MakeConstant(false, true);
+    vtkNew<vtkVolumeReferenceIntegrator> rampReference;
+    rampReference->SetInputData(ramp);
+    rampReference->SetVolumeProperty(flat);
+    rampReference->SetCamera(view);
+    rampReference->SetImageSize(constantSize, constantSize);
+    rampReference->Update();
+    vtkNew<vtkFirstOrderPreIntegrationTable> rampTable;
+    vtkNew<vtkPreIntegrationRayCaster> preint;
+    preint->SetInputData(ramp);
+    preint->SetVolumeProperty(flat);
+    preint->SetCamera(view);
+    preint->SetImageSize(constantSize, constantSize);
+    preint->SetTable(rampTable);
+    preint->SetSampleDistance(2.0 * view->GetParallelScale() / constantSize);
+    preint->SetOpacityThreshold(1.0);
+    preint->Update();
+    const double preintRMSE = RMSE(preint->GetOutput(), rampReference->GetOutput());
+    const double preintWorst = MaxDifference(preint->GetOutput(), rampReference->GetOutput());
+    flatCaster->SetInputData(ramp);
+    flatCaster->SetAlgorithmToFig7();
+    for (int oracle = 0; oracle < 2; ++oracle)
+    {
+      flatCaster->SetOracleMode(oracle == 0 ? vtkAdaptiveSamplingRayCaster::ORACLE_MINIMUM
+                                            : vtkAdaptiveSamplingRayCaster::ORACLE_ARRAY);
+      flatCaster->Update();
+      const double rmse = RMSE(flatCaster->GetOutput(), rampReference->GetOutput());
+      const double worst = MaxDifference(flatCaster->GetOutput(), rampReference->GetOutput());
+      const std::string name =
+        std::string("linear ramp, ") + (oracle == 0 ? "min. oracle" : "oracle 2^l_max");
+      std::cout << name << ": RMSE against the reference " << rmse << ", largest difference "
+                << worst << "; first-order pre-integration at the same step: " << preintRMSE << ", "
+                << preintWorst << "\n";
+      check(rmse <= 1.25 * preintRMSE && worst <= 1.25 * preintWorst,
+        name + ": error at most 1.25 x first-order pre-integration's");
+    }
   }
 
   //----------------------------------------------------------------------------

@@ -15,11 +15,19 @@
 //   4. fewer slices than 2^l_max, and an oracle that asks for 2^l_max everywhere;
 //   5. a perspective camera: one error, nothing drawn, until the camera is parallel again;
 //   6. bad input: a missing oracle array, a NaN oracle, l_max outside [0, 8], a 1-voxel-thick
-//      volume: an error each and nothing drawn.
+//      volume: an error each and nothing drawn;
+//   7. entry and exit pieces: a constant volume (non-unit spacing, offset origin), oblique and
+//      along an axis, with the min. oracle, an oracle of 2^l_max and a varying one: the CPU
+//      core's image and counts (the boundary fetches too), and per pixel the exact
+//      1 - exp(-sigma chord).
+// Every comparison with the CPU core includes the boundary fetches (entry and exit scalars).
 #include "hovrRenderTestUtilities.h"
 
 #include "vtkAdaptiveSamplingRayCaster.h"
 #include "vtkAdaptiveSamplingVolumeMapper.h"
+#include "vtkCameraRayModel.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkVolume.h"
 
 #include <iostream>
@@ -110,7 +118,8 @@ void MakeCamera(vtkCamera* camera, double scale = 48.0)
 struct Frame
 {
   vtkSmartPointer<vtkImageData> Image;
-  vtkIdType Samples = -1, Synthesis = -1, Accumulates = -1, FullRate = -1, Slices = 0;
+  vtkIdType Samples = -1, Synthesis = -1, Accumulates = -1, Boundary = -1, FullRate = -1,
+            Slices = 0;
 };
 
 struct Scene
@@ -139,6 +148,7 @@ struct Scene
     frame.Samples = this->Mapper->GetLastFrameSampleOperations();
     frame.Synthesis = this->Mapper->GetLastFrameSynthesisOperations();
     frame.Accumulates = this->Mapper->GetLastFrameAccumulateOperations();
+    frame.Boundary = this->Mapper->GetLastFrameBoundarySampleOperations();
     frame.FullRate = this->Mapper->GetLastFrameFullRateSampleOperations();
     frame.Slices = this->Mapper->GetNumberOfSlices();
     return frame;
@@ -169,6 +179,7 @@ Frame RenderCPU(vtkImageData* data,
   frame.Samples = caster->GetNumberOfSampleOperations();
   frame.Synthesis = caster->GetNumberOfSynthesisOperations();
   frame.Accumulates = caster->GetNumberOfAccumulateOperations();
+  frame.Boundary = caster->GetNumberOfBoundarySampleOperations();
   frame.FullRate = caster->GetFullRateSampleOperations();
   frame.Slices = caster->GetNumberOfSlices();
   return frame;
@@ -207,7 +218,8 @@ void Compare(const Frame& gpu, const Frame& cpu, int w, int h, int cw, const std
   std::cout << what << ": samples " << gpu.Samples << " (CPU " << cpu.Samples << ", full rate "
             << cpu.FullRate << ", ratio " << static_cast<double>(cpu.Samples) / cpu.FullRate
             << "), synthesis " << gpu.Synthesis << " (CPU " << cpu.Synthesis << "), accumulate "
-            << gpu.Accumulates << " (CPU " << cpu.Accumulates << "), slices " << gpu.Slices
+            << gpu.Accumulates << " (CPU " << cpu.Accumulates << "), boundary " << gpu.Boundary
+            << " (CPU " << cpu.Boundary << "), slices " << gpu.Slices
             << ", largest image difference " << worst << "\n";
   check(worst <= ImageTolerance,
     what + ": image equals the CPU core's within " + std::to_string(ImageTolerance) + ", got " +
@@ -220,11 +232,99 @@ void Compare(const Frame& gpu, const Frame& cpu, int w, int h, int cw, const std
   check(gpu.Accumulates == cpu.Accumulates,
     what + ": accumulates " + std::to_string(gpu.Accumulates) + " = CPU " +
       std::to_string(cpu.Accumulates));
+  check(gpu.Boundary == cpu.Boundary,
+    what + ": boundary fetches " + std::to_string(gpu.Boundary) + " = CPU " +
+      std::to_string(cpu.Boundary));
   check(gpu.FullRate == cpu.FullRate,
     what + ": full rate " + std::to_string(gpu.FullRate) + " = CPU " +
       std::to_string(cpu.FullRate));
   check(gpu.Slices == cpu.Slices,
     what + ": slices " + std::to_string(gpu.Slices) + " = CPU " + std::to_string(cpu.Slices));
+}
+
+// A constant scalar on a box of points with non-unit spacing and an offset origin, with an
+// oracle array that is constant (2^l_max everywhere) or varies through the range of d.
+constexpr double ConstantValue = 0.5;
+vtkSmartPointer<vtkImageData> MakeConstant(bool varyingOracle)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(40, 33, 27);
+  image->SetSpacing(1.0, 1.25, 0.8);
+  image->SetOrigin(-5.0, 2.0, 10.0);
+  const vtkIdType n = image->GetNumberOfPoints();
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("Scalars");
+  scalars->SetNumberOfTuples(n);
+  scalars->Fill(ConstantValue);
+  vtkNew<vtkFloatArray> oracle;
+  oracle->SetName("OracleDistance");
+  oracle->SetNumberOfTuples(n);
+  for (vtkIdType id = 0; id < n; ++id)
+  {
+    double p[3];
+    image->GetPoint(id, p);
+    oracle->SetValue(id,
+      varyingOracle
+        ? static_cast<float>(std::fmod(0.37 * p[0] + 0.23 * p[1] + 0.11 * p[2] + 50.0, 7.0))
+        : 1000.0f);
+  }
+  image->GetPointData()->SetScalars(scalars);
+  image->GetPointData()->AddArray(oracle);
+  return image;
+}
+
+// Largest difference, over the pixels and channels, from the constant volume's exact image:
+// opacity 1 - exp(-sigma chord), sigma = -ln(1 - alpha(c)) / U, colour rgb(c) times it.
+double ConstantError(vtkImageData* image,
+  vtkImageData* volume,
+  vtkVolumeProperty* property,
+  vtkCamera* camera,
+  int size)
+{
+  vtkNew<vtkCameraRayModel> rays;
+  rays->SetCamera(camera);
+  rays->SetImageSize(size, size);
+  rays->Prepare();
+  double bounds[6];
+  volume->GetBounds(bounds);
+  const double alpha = property->GetScalarOpacity()->GetValue(ConstantValue);
+  const double sigma = -std::log(1.0 - alpha) / property->GetScalarOpacityUnitDistance();
+  double rgb[3];
+  property->GetRGBTransferFunction()->GetColor(ConstantValue, rgb);
+  vtkFloatArray* rgba = hovrTest::GetRGBA(image);
+  if (!rgba || rgba->GetNumberOfTuples() != static_cast<vtkIdType>(size) * size)
+  {
+    return 1e30;
+  }
+  double worst = 0.0;
+  for (int j = 0; j < size; ++j)
+  {
+    for (int i = 0; i < size; ++i)
+    {
+      double o[3], v[3];
+      rays->GetPixelRay(i, j, o, v);
+      double t0 = -1e300, t1 = 1e300;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (v[a] == 0.0)
+        {
+          t1 = o[a] < bounds[2 * a] || o[a] > bounds[2 * a + 1] ? -1e300 : t1;
+          continue;
+        }
+        const double ta = (bounds[2 * a] - o[a]) / v[a], tb = (bounds[2 * a + 1] - o[a]) / v[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      const double opacity = -std::expm1(-sigma * std::max(t1 - t0, 0.0));
+      const double expected[4] = { rgb[0] * opacity, rgb[1] * opacity, rgb[2] * opacity, opacity };
+      for (int c = 0; c < 4; ++c)
+      {
+        const double value = rgba->GetComponent(static_cast<vtkIdType>(j) * size + i, c);
+        worst = std::max(worst, std::isfinite(value) ? std::abs(value - expected[c]) : 1e30);
+      }
+    }
+  }
+  return worst;
 }
 
 bool Empty(vtkImageData* image)
@@ -289,7 +389,9 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
     const Frame gpu = scene.Render();
     const Frame cpu = RenderCPU(volume, property, camera, size, size, mapper);
     Compare(gpu, cpu, size, size, size, "blobs, oracle, l_max 3");
-    check(gpu.Samples < gpu.FullRate / 10, "the oracle skips most samples");
+    // The oracle's samples, plus those that replace a NaN synthesised near the outline of
+    // each slice's cross-section (the CPU core's test measures both).
+    check(gpu.Samples < gpu.FullRate / 8, "the oracle skips most samples");
     // Without counting, the passes cover only the pixels that can matter: the same image.
     mapper->CountOperationsOff();
     const Frame uncounted = scene.Render();
@@ -333,8 +435,9 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
       const Frame c = RenderCPU(far, property, camera, size, size, mapper);
       Compare(g, c, size, size, size, "oracle 1e6 everywhere");
       // Inside, 1/512 of the full rate; outside, the distance to the box brings rays to the
-      // entry face with shrinking steps on finer levels: a few times 1/512 on this volume.
-      check(g.Samples < g.FullRate / 50, "an oracle of 2^l_max samples a few times 1/512");
+      // entry face with shrinking steps on finer levels: a few times 1/512 on this volume;
+      // and samples that replace a NaN synthesised near each cross-section's outline.
+      check(g.Samples < g.FullRate / 20, "an oracle of 2^l_max samples a few percent");
       mapper->SetInputData(volume);
     }
     hovrTest::ExpectQuiet(check, scene.Errors, "the oracle frames");
@@ -498,6 +601,65 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
       check(hovrTest::CountCovered(gpu.Image) > 100, "the slab is drawn");
     }
     hovrTest::ExpectQuiet(check, scene.Errors, "the slab");
+  }
+
+  //----------------------------------------------------------------------------
+  // 7. Entry and exit pieces on a constant volume: every piece is exact for a constant (the
+  // table's diagonal entry with its optical depth scaled to the piece's length). The GPU
+  // composites in float32 (the scaling's pow too): a few float roundings per piece over a few
+  // dozen pieces, below 1e-5; a piece dropped at a face, or a NaN spread from the silhouette,
+  // misses by 1e-3 or more.
+  {
+    const int constantSize = 64;
+    vtkNew<vtkVolumeProperty> flat;
+    vtkNew<vtkColorTransferFunction> color;
+    color->AddRGBPoint(0.0, 0.9, 0.6, 0.3);
+    color->AddRGBPoint(1.0, 0.9, 0.6, 0.3);
+    vtkNew<vtkPiecewiseFunction> opacity;
+    opacity->AddPoint(0.0, 0.0);
+    opacity->AddPoint(1.0, 0.4);
+    flat->SetColor(color);
+    flat->SetScalarOpacity(opacity);
+    flat->SetScalarOpacityUnitDistance(15.0);
+    auto constant = MakeConstant(false);
+    Scene scene;
+    scene.Initialize(constantSize, constantSize, constant, flat);
+    scene.Mapper->EarlyRayTerminationOff();
+    vtkCamera* camera = scene.View.GetCamera();
+    double centre[3];
+    constant->GetCenter(centre);
+    camera->SetFocalPoint(centre);
+    camera->SetParallelScale(31.0);
+    const double directions[2][3] = { { 100.0, 60.0, 80.0 }, { 0.0, 0.0, 100.0 } };
+    const double ups[2][3] = { { 0, 0, 1 }, { 0, 1, 0 } };
+    for (int view = 0; view < 2; ++view)
+    {
+      camera->SetPosition(centre[0] + directions[view][0],
+        centre[1] + directions[view][1],
+        centre[2] + directions[view][2]);
+      camera->SetViewUp(ups[view][0], ups[view][1], ups[view][2]);
+      for (int oracle = 0; oracle < 3; ++oracle)
+      {
+        auto data = MakeConstant(oracle == 2);
+        scene.Mapper->SetInputData(data);
+        scene.Mapper->SetOracleMode(oracle == 0 ? vtkAdaptiveSamplingVolumeMapper::ORACLE_MINIMUM
+                                                : vtkAdaptiveSamplingVolumeMapper::ORACLE_ARRAY);
+        const std::string name = std::string("constant volume, ") +
+          (view == 0 ? "oblique" : "along -z") +
+          (oracle == 0      ? ", min. oracle"
+              : oracle == 1 ? ", oracle 2^l_max"
+                            : ", varying oracle");
+        const Frame gpu = scene.Render();
+        const Frame cpu = RenderCPU(data, flat, camera, constantSize, constantSize, scene.Mapper);
+        Compare(gpu, cpu, constantSize, constantSize, constantSize, name);
+        const double error = ConstantError(gpu.Image, data, flat, camera, constantSize);
+        std::cout << name << ": largest difference from 1 - exp(-sigma chord) " << error << "\n";
+        check(error <= 1e-5,
+          name + ": exact for a constant scalar within 1e-5, got " + std::to_string(error));
+        check(gpu.Boundary > 0, name + ": entry and exit fetches");
+      }
+    }
+    hovrTest::ExpectQuiet(check, scene.Errors, "the constant volume");
   }
 
   messages.ExpectNone(check, "in the whole test");
