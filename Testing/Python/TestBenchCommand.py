@@ -88,6 +88,33 @@ c.check("unknown method" in stderr, "unknown method in a configuration is report
 code, stdout, stderr = run_cli("bench", os.path.join(tmp, "none.json"), expect=2)
 c.check("bench configuration file not found" in stderr, "missing configuration is reported")
 
+# A run's settings: a pre-integration method's table memory limit shrinks its automatic table
+# (rows named after the setting); a setting the method does not take is an error.
+limited = dict(config, runs=[["preint2", 1], ["preint2", 1, {"table_memory_mib": 0.01}]],
+               baseline=["preint2", 1], datasets=config["datasets"][:1])
+limited.pop("methods")
+limited.pop("steps")
+with open(broken, "w") as stream:
+    json.dump(limited, stream)
+run_cli("bench", broken, "--output", os.path.join(tmp, "limited"))
+with open(os.path.join(tmp, "limited", "results.csv")) as stream:
+    sizes = {r["method"]: int(r["table_gpu_bytes"]) for r in csv.DictReader(stream)}
+c.check(sorted(sizes) == ["preint2", "preint2(table_memory_mib=0.01)"]
+        and 0 < sizes["preint2(table_memory_mib=0.01)"] <= 0.01 * 2**20 < sizes["preint2"],
+        "table_memory_mib bounds the table's GPU memory (%s)" % sizes)
+limited["runs"] = [["preint1", 1, {"lmax": 2}]]
+with open(broken, "w") as stream:
+    json.dump(limited, stream)
+code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
+c.check("unknown setting(s) lmax of preint1" in stderr, "a setting the method lacks is an error "
+        "(%s)" % stderr.strip()[-200:])
+limited["runs"] = [["stock", 1, {"lmax": 2}]]
+with open(broken, "w") as stream:
+    json.dump(limited, stream)
+code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
+c.check("method stock takes no settings" in stderr, "settings on a method without any are an "
+        "error (%s)" % stderr.strip()[-200:])
+
 # hovr tables: CPU and GPU builds of small second-order tables agree; the CSV has every row.
 tables_csv = os.path.join(tmp, "tables.csv")
 code, stdout, stderr = run_cli("tables", "--sizes", 12, 20, "--iterations", 8, 16, "--repeat", 1,

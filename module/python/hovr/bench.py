@@ -40,7 +40,8 @@ are named after them, e.g. ``adaptive-cpu(lmax=2)``), and their rows add the ope
 (``sample_ops``, ``synthesis_ops``, ``full_rate_samples``, ``sample_ratio_to_full``: samples
 over those of a full-rate ray caster on the same slice grid) and the base step in voxels
 (``slice_spacing_voxels``). A run's step ``"pixel"`` is that base step: the distance
-between neighbouring rays of the dataset's parallel camera, in voxels.
+between neighbouring rays of the dataset's parallel camera, in voxels. A pre-integration run
+takes ``{"table_memory_mib": 256}``: the table memory limit its automatic sizes use.
 ``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
 image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
 approximations with the error term xi of El Hajjar et al., section 3.2.
@@ -211,7 +212,7 @@ def load_config(path):
                 or (len(entry) == 3 and not (isinstance(entry[2], int) and entry[2] >= 1)
                     and not isinstance(entry[2], dict))):
             raise HovrError("%s: a run is [method, positive step], [method, positive step, "
-                            "threads] or [method, positive step, {adaptive settings}], got %r"
+                            "threads] or [method, positive step, {settings}], got %r"
                             % (path, entry))
         hm.get_method(entry[0], settings=entry[2] if len(entry) == 3 and
                       isinstance(entry[2], dict) else None)

@@ -45,10 +45,29 @@ class Method:
     description = ""
     blend = "composite"  # the blend mode the method renders; None: any (the reference)
     threads = 0  # the thread count it is pinned to; 0: the default
+    settings_names = ()  # the settings a bench run may give the method (``variant``)
+    overrides = {}  # this variant's settings
 
     def __init__(self, name, description):
         self.name = name
         self.description = description
+
+    def variant(self, settings):
+        """A copy of this method with settings of its own (names in ``settings_names``),
+        named after them, e.g. ``adaptive-cpu(lmax=2)``."""
+        if not self.settings_names:
+            raise HovrError("method %s takes no settings" % self.name)
+        unknown = sorted(set(settings) - set(self.settings_names))
+        if unknown:
+            raise HovrError("unknown setting(s) %s of %s (known: %s)" % (
+                ", ".join(unknown), self.name, ", ".join(self.settings_names)))
+        copy = type(self).__new__(type(self))
+        copy.__dict__.update(self.__dict__)
+        copy.overrides = dict(self.overrides, **settings)
+        copy.name = "%s(%s)" % (self.name, ",".join(
+            "%s=%s" % (k, copy.overrides[k]) for k in self.settings_names
+            if k in copy.overrides))
+        return copy
 
     def render(self, renderer, scene, step, repeat):
         """Render ``scene`` through ``renderer`` (a hovr.renderer.Renderer): drawn in its
@@ -152,7 +171,10 @@ class StockMethod(Method):
 
 class PreIntegrationMethod(Method):
     """vtkPreIntegrationVolumeMapper; ``interpolation`` fixes the gradient interpolation of
-    shaded frames (None: the scene's)."""
+    shaded frames (None: the scene's). Setting ``table_memory_mib``: the mapper's
+    TableMemoryLimit in MiB (default 64)."""
+
+    settings_names = ("table_memory_mib",)
 
     def __init__(self, name, description, integration, interpolation=None):
         super().__init__(name, description)
@@ -170,6 +192,12 @@ class PreIntegrationMethod(Method):
         target.SetGooch(bool(scene.shading["gooch"]))
         target.SetNormalArrayName(scene.shading.get("normals") or None)
         target.GetShadingModel().SetSpecularCone(CONES[scene.shading.get("cone") or "paper"])
+        if "table_memory_mib" in self.overrides:
+            mib = self.overrides["table_memory_mib"]
+            if not (isinstance(mib, (int, float)) and 0 < mib < 1e6):
+                raise HovrError("table_memory_mib must be a positive number of MiB, got %r"
+                                % (mib,))
+            target.SetTableMemoryLimit(float(mib) * 2.0**20)
 
     def statistics(self, mapper):
         table = mapper.GetActiveTable()
@@ -331,20 +359,7 @@ class AdaptiveMethod(Method):
     volume and opacity): the settings are the scene's (scene.adaptive: "lmax", "epsilon",
     "oracle") unless the method is a variant with its own (``variant``)."""
 
-    overrides = {}
-
-    def variant(self, settings):
-        """A copy of this method with its own adaptive settings, named after them."""
-        unknown = sorted(set(settings) - set(ADAPTIVE_SETTINGS))
-        if unknown:
-            raise HovrError("unknown adaptive setting(s) %s (known: %s)" % (
-                ", ".join(unknown), ", ".join(ADAPTIVE_SETTINGS)))
-        copy = type(self).__new__(type(self))
-        copy.__dict__.update(self.__dict__)
-        copy.overrides = dict(self.overrides, **settings)
-        copy.name = "%s(%s)" % (self.name, ",".join(
-            "%s=%s" % (k, copy.overrides[k]) for k in ADAPTIVE_SETTINGS if k in copy.overrides))
-        return copy
+    settings_names = ADAPTIVE_SETTINGS
 
     def settings(self, scene):
         values = dict(scene.adaptive, **self.overrides)
@@ -544,13 +559,11 @@ METHODS = {m.name: m for m in (
 
 def get_method(name, threads=None, settings=None):
     """The method of that name; with ``threads``, pinned to that many threads; with
-    ``settings`` (a dict), an adaptive method's variant with those settings."""
+    ``settings`` (a dict), the method's variant with those settings (``Method.variant``)."""
     if name not in METHODS:
         raise HovrError("unknown method %r (known: %s)" % (name, ", ".join(METHODS)))
     method = METHODS[name]
     if settings:
-        if not isinstance(method, AdaptiveMethod):
-            raise HovrError("method %s takes no adaptive settings" % name)
         method = method.variant(settings)
     if threads is None:
         return method
