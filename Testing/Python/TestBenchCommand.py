@@ -102,18 +102,14 @@ with open(os.path.join(tmp, "limited", "results.csv")) as stream:
 c.check(sorted(sizes) == ["preint2", "preint2(table_memory_mib=0.01)"]
         and 0 < sizes["preint2(table_memory_mib=0.01)"] <= 0.01 * 2**20 < sizes["preint2"],
         "table_memory_mib bounds the table's GPU memory (%s)" % sizes)
-limited["runs"] = [["preint1", 1, {"lmax": 2}]]
-with open(broken, "w") as stream:
-    json.dump(limited, stream)
-code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
-c.check("unknown setting(s) lmax of preint1" in stderr, "a setting the method lacks is an error "
-        "(%s)" % stderr.strip()[-200:])
-limited["runs"] = [["stock", 1, {"lmax": 2}]]
-with open(broken, "w") as stream:
-    json.dump(limited, stream)
-code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
-c.check("method stock takes no settings" in stderr, "settings on a method without any are an "
-        "error (%s)" % stderr.strip()[-200:])
+for method, message in (("preint1", "unknown setting(s) lmax of preint1"),
+                        ("stock", "method stock takes no settings")):
+    limited["runs"] = [[method, 1, {"lmax": 2}]]
+    with open(broken, "w") as stream:
+        json.dump(limited, stream)
+    code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
+    c.check(message in stderr, "a setting %s lacks is an error (%s)" % (method,
+                                                                       stderr.strip()[-200:]))
 
 # hovr tables: CPU and GPU builds of small second-order tables agree; the CSV has every row.
 tables_csv = os.path.join(tmp, "tables.csv")

@@ -86,7 +86,8 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "extremum_max_error", "extremum_mean_error",
               "nontransparent_cells", "occluded_ratio", "occluded_ratio_first_hit", "octree_nodes",
               "cpu_bytes", "instruction_set", "slice_spacing_voxels", "sample_ops",
-              "synthesis_ops", "accumulate_ops", "full_rate_samples", "sample_ratio_to_full",
+              "synthesis_ops", "accumulate_ops", "boundary_sample_ops", "full_rate_samples",
+              "sample_ratio_to_full",
               "passes_per_frame"]
 
 # Part of the reference cache key: bump when the reference's output changes.

@@ -30,6 +30,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeReferenceIntegrator.h"
 
+#include "hovrConstantVolume.h"
 #include "hovrTestUtilities.h"
 
 #include <algorithm>
@@ -258,105 +259,6 @@ void FullRate(vtkImageData* volume,
     }
   }
 }
-}
-
-// A constant scalar on a box of points with non-unit spacing and an offset origin, and an
-// oracle array: either a constant (every pixel asks for 2^l_max) or a field that varies
-// through the whole range of d, so that all levels sample somewhere.
-constexpr double ConstantValue = 0.5;
-const int ConstantDims[3] = { 40, 33, 27 };
-const double ConstantSpacing[3] = { 1.0, 1.25, 0.8 };
-const double ConstantOrigin[3] = { -5.0, 2.0, 10.0 };
-
-vtkSmartPointer<vtkImageData> MakeConstant(bool varyingOracle, bool ramp = false)
-{
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(ConstantDims[0], ConstantDims[1], ConstantDims[2]);
-  image->SetSpacing(ConstantSpacing[0], ConstantSpacing[1], ConstantSpacing[2]);
-  image->SetOrigin(ConstantOrigin[0], ConstantOrigin[1], ConstantOrigin[2]);
-  const vtkIdType n = image->GetNumberOfPoints();
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("Scalars");
-  scalars->SetNumberOfTuples(n);
-  scalars->FillValue(static_cast<float>(ConstantValue));
-  if (ramp) // linear along x, from 0 to 1
-  {
-    for (vtkIdType id = 0; id < n; ++id)
-    {
-      scalars->SetValue(id, static_cast<float>((id % ConstantDims[0]) / (ConstantDims[0] - 1.0)));
-    }
-  }
-  vtkNew<vtkFloatArray> oracle;
-  oracle->SetName("OracleDistance");
-  oracle->SetNumberOfTuples(n);
-  for (vtkIdType id = 0; id < n; ++id)
-  {
-    double p[3];
-    image->GetPoint(id, p);
-    oracle->SetValue(id,
-      varyingOracle
-        ? static_cast<float>(std::fmod(0.37 * p[0] + 0.23 * p[1] + 0.11 * p[2] + 50.0, 7.0))
-        : 1000.0f);
-  }
-  image->GetPointData()->SetScalars(scalars);
-  image->GetPointData()->AddArray(oracle);
-  return image;
-}
-
-// Per pixel, the exact image of the constant volume: opacity 1 - exp(-sigma chord) with the
-// chord of the ray through the box of points and sigma = -ln(1 - alpha(c)) / U, colour
-// rgb(c) times that opacity. Returns the largest difference over the four channels.
-double ConstantError(vtkImageData* image,
-  vtkImageData* volume,
-  vtkVolumeProperty* property,
-  vtkCamera* camera,
-  int size)
-{
-  vtkNew<vtkCameraRayModel> rays;
-  rays->SetCamera(camera);
-  rays->SetImageSize(size, size);
-  rays->Prepare();
-  double bounds[6];
-  volume->GetBounds(bounds);
-  const double alpha = property->GetScalarOpacity()->GetValue(ConstantValue);
-  const double sigma = -std::log(1.0 - alpha) / property->GetScalarOpacityUnitDistance();
-  double rgb[3];
-  property->GetRGBTransferFunction()->GetColor(ConstantValue, rgb);
-  vtkFloatArray* rgba = RGBA(image);
-  if (!rgba || rgba->GetNumberOfTuples() != static_cast<vtkIdType>(size) * size)
-  {
-    return 1e30;
-  }
-  double worst = 0.0;
-  for (int j = 0; j < size; ++j)
-  {
-    for (int i = 0; i < size; ++i)
-    {
-      double o[3], v[3];
-      rays->GetPixelRay(i, j, o, v);
-      double t0 = -1e300, t1 = 1e300;
-      for (int a = 0; a < 3; ++a)
-      {
-        if (v[a] == 0.0)
-        {
-          t1 = o[a] < bounds[2 * a] || o[a] > bounds[2 * a + 1] ? -1e300 : t1;
-          continue;
-        }
-        const double ta = (bounds[2 * a] - o[a]) / v[a], tb = (bounds[2 * a + 1] - o[a]) / v[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
-      const double chord = std::max(t1 - t0, 0.0);
-      const double opacity = -std::expm1(-sigma * chord);
-      const double expected[4] = { rgb[0] * opacity, rgb[1] * opacity, rgb[2] * opacity, opacity };
-      for (int c = 0; c < 4; ++c)
-      {
-        worst = std::max(worst,
-          std::abs(rgba->GetComponent(static_cast<vtkIdType>(j) * size + i, c) - expected[c]));
-      }
-    }
-  }
-  return worst;
 }
 
 int TestAdaptiveSamplingRayCaster(int, char*[])
@@ -609,9 +511,12 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
     flat->SetScalarOpacity(opacity);
     flat->SetScalarOpacityUnitDistance(15.0);
     const int constantSize = 64;
-    const double centre[3] = { ConstantOrigin[0] + 0.5 * (ConstantDims[0] - 1) * ConstantSpacing[0],
-      ConstantOrigin[1] + 0.5 * (ConstantDims[1] - 1) * ConstantSpacing[1],
-      ConstantOrigin[2] + 0.5 * (ConstantDims[2] - 1) * ConstantSpacing[2] };
+    const double centre[3] = { hovrTest::ConstantOrigin[0] +
+        0.5 * (hovrTest::ConstantDims[0] - 1) * hovrTest::ConstantSpacing[0],
+      hovrTest::ConstantOrigin[1] +
+        0.5 * (hovrTest::ConstantDims[1] - 1) * hovrTest::ConstantSpacing[1],
+      hovrTest::ConstantOrigin[2] +
+        0.5 * (hovrTest::ConstantDims[2] - 1) * hovrTest::ConstantSpacing[2] };
     struct View
     {
       const char* Name;
@@ -635,7 +540,7 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
       view->SetViewUp(v.Up[0], v.Up[1], v.Up[2]);
       for (int oracle = 0; oracle < 3; ++oracle)
       {
-        auto constant = MakeConstant(oracle == 2);
+        auto constant = hovrTest::MakeConstantVolume(oracle == 2);
         flatCaster->SetInputData(constant);
         flatCaster->SetOracleMode(oracle == 0 ? vtkAdaptiveSamplingRayCaster::ORACLE_MINIMUM
                                               : vtkAdaptiveSamplingRayCaster::ORACLE_ARRAY);
@@ -644,8 +549,8 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
           flatCaster->SetAlgorithm(algorithm);
           flatCaster->SetMaximumLevel(3);
           flatCaster->Update();
-          const double error =
-            ConstantError(flatCaster->GetOutput(), constant, flat, view, constantSize);
+          const double error = hovrTest::ConstantVolumeError(
+            flatCaster->GetOutput(), constant, flat, view, constantSize);
           const std::string name = std::string("constant volume, ") + v.Name +
             (oracle == 0      ? ", min. oracle"
                 : oracle == 1 ? ", oracle 2^l_max"
@@ -669,7 +574,7 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
     // for a constant only); a piece dropped at a face costs far more (the bound fails then).
     view->SetPosition(centre[0] + 100.0, centre[1] + 60.0, centre[2] + 80.0);
     view->SetViewUp(0, 0, 1);
-    auto ramp = MakeConstant(false, true);
+    auto ramp = hovrTest::MakeConstantVolume(false, true);
     vtkNew<vtkVolumeReferenceIntegrator> rampReference;
     rampReference->SetInputData(ramp);
     rampReference->SetVolumeProperty(flat);

@@ -21,6 +21,7 @@
 //      core's image and counts (the boundary fetches too), and per pixel the exact
 //      1 - exp(-sigma chord).
 // Every comparison with the CPU core includes the boundary fetches (entry and exit scalars).
+#include "hovrConstantVolume.h"
 #include "hovrRenderTestUtilities.h"
 
 #include "vtkAdaptiveSamplingRayCaster.h"
@@ -240,91 +241,6 @@ void Compare(const Frame& gpu, const Frame& cpu, int w, int h, int cw, const std
       std::to_string(cpu.FullRate));
   check(gpu.Slices == cpu.Slices,
     what + ": slices " + std::to_string(gpu.Slices) + " = CPU " + std::to_string(cpu.Slices));
-}
-
-// A constant scalar on a box of points with non-unit spacing and an offset origin, with an
-// oracle array that is constant (2^l_max everywhere) or varies through the range of d.
-constexpr double ConstantValue = 0.5;
-vtkSmartPointer<vtkImageData> MakeConstant(bool varyingOracle)
-{
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(40, 33, 27);
-  image->SetSpacing(1.0, 1.25, 0.8);
-  image->SetOrigin(-5.0, 2.0, 10.0);
-  const vtkIdType n = image->GetNumberOfPoints();
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("Scalars");
-  scalars->SetNumberOfTuples(n);
-  scalars->Fill(ConstantValue);
-  vtkNew<vtkFloatArray> oracle;
-  oracle->SetName("OracleDistance");
-  oracle->SetNumberOfTuples(n);
-  for (vtkIdType id = 0; id < n; ++id)
-  {
-    double p[3];
-    image->GetPoint(id, p);
-    oracle->SetValue(id,
-      varyingOracle
-        ? static_cast<float>(std::fmod(0.37 * p[0] + 0.23 * p[1] + 0.11 * p[2] + 50.0, 7.0))
-        : 1000.0f);
-  }
-  image->GetPointData()->SetScalars(scalars);
-  image->GetPointData()->AddArray(oracle);
-  return image;
-}
-
-// Largest difference, over the pixels and channels, from the constant volume's exact image:
-// opacity 1 - exp(-sigma chord), sigma = -ln(1 - alpha(c)) / U, colour rgb(c) times it.
-double ConstantError(vtkImageData* image,
-  vtkImageData* volume,
-  vtkVolumeProperty* property,
-  vtkCamera* camera,
-  int size)
-{
-  vtkNew<vtkCameraRayModel> rays;
-  rays->SetCamera(camera);
-  rays->SetImageSize(size, size);
-  rays->Prepare();
-  double bounds[6];
-  volume->GetBounds(bounds);
-  const double alpha = property->GetScalarOpacity()->GetValue(ConstantValue);
-  const double sigma = -std::log(1.0 - alpha) / property->GetScalarOpacityUnitDistance();
-  double rgb[3];
-  property->GetRGBTransferFunction()->GetColor(ConstantValue, rgb);
-  vtkFloatArray* rgba = hovrTest::GetRGBA(image);
-  if (!rgba || rgba->GetNumberOfTuples() != static_cast<vtkIdType>(size) * size)
-  {
-    return 1e30;
-  }
-  double worst = 0.0;
-  for (int j = 0; j < size; ++j)
-  {
-    for (int i = 0; i < size; ++i)
-    {
-      double o[3], v[3];
-      rays->GetPixelRay(i, j, o, v);
-      double t0 = -1e300, t1 = 1e300;
-      for (int a = 0; a < 3; ++a)
-      {
-        if (v[a] == 0.0)
-        {
-          t1 = o[a] < bounds[2 * a] || o[a] > bounds[2 * a + 1] ? -1e300 : t1;
-          continue;
-        }
-        const double ta = (bounds[2 * a] - o[a]) / v[a], tb = (bounds[2 * a + 1] - o[a]) / v[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
-      const double opacity = -std::expm1(-sigma * std::max(t1 - t0, 0.0));
-      const double expected[4] = { rgb[0] * opacity, rgb[1] * opacity, rgb[2] * opacity, opacity };
-      for (int c = 0; c < 4; ++c)
-      {
-        const double value = rgba->GetComponent(static_cast<vtkIdType>(j) * size + i, c);
-        worst = std::max(worst, std::isfinite(value) ? std::abs(value - expected[c]) : 1e30);
-      }
-    }
-  }
-  return worst;
 }
 
 bool Empty(vtkImageData* image)
@@ -621,7 +537,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
     flat->SetColor(color);
     flat->SetScalarOpacity(opacity);
     flat->SetScalarOpacityUnitDistance(15.0);
-    auto constant = MakeConstant(false);
+    auto constant = hovrTest::MakeConstantVolume(false);
     Scene scene;
     scene.Initialize(constantSize, constantSize, constant, flat);
     scene.Mapper->EarlyRayTerminationOff();
@@ -640,7 +556,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
       camera->SetViewUp(ups[view][0], ups[view][1], ups[view][2]);
       for (int oracle = 0; oracle < 3; ++oracle)
       {
-        auto data = MakeConstant(oracle == 2);
+        auto data = hovrTest::MakeConstantVolume(oracle == 2);
         scene.Mapper->SetInputData(data);
         scene.Mapper->SetOracleMode(oracle == 0 ? vtkAdaptiveSamplingVolumeMapper::ORACLE_MINIMUM
                                                 : vtkAdaptiveSamplingVolumeMapper::ORACLE_ARRAY);
@@ -652,7 +568,8 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
         const Frame gpu = scene.Render();
         const Frame cpu = RenderCPU(data, flat, camera, constantSize, constantSize, scene.Mapper);
         Compare(gpu, cpu, constantSize, constantSize, constantSize, name);
-        const double error = ConstantError(gpu.Image, data, flat, camera, constantSize);
+        const double error =
+          hovrTest::ConstantVolumeError(gpu.Image, data, flat, camera, constantSize);
         std::cout << name << ": largest difference from 1 - exp(-sigma chord) " << error << "\n";
         check(error <= 1e-5,
           name + ": exact for a constant scalar within 1e-5, got " + std::to_string(error));
