@@ -130,19 +130,9 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
   std::vector<double> normals;
   if (model && this->NormalArrayName && *this->NormalArrayName)
   {
-    vtkDataArray* array = input->GetPointData()->GetArray(this->NormalArrayName);
-    const vtkIdType n = scalars->GetNumberOfTuples();
-    if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
+    if (!this->ReadNormalArray(input, this->NormalArrayName, scalars->GetNumberOfTuples(), normals))
     {
-      vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
-                                         << "\" names no point array of 3-component vectors, "
-                                            "one per point; the image is empty.");
       return 1;
-    }
-    normals.resize(3 * static_cast<size_t>(n));
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      array->GetTuple(i, normals.data() + 3 * i);
     }
   }
   this->Table->SetVolumeProperty(this->VolumeProperty);

@@ -379,6 +379,28 @@ void vtkVolumeImageAlgorithm::WarnIfTransparent(vtkFloatArray* rgba)
 }
 
 //------------------------------------------------------------------------------
+bool vtkVolumeImageAlgorithm::ReadNormalArray(vtkImageData* input,
+  const char* name,
+  vtkIdType n,
+  std::vector<double>& normals)
+{
+  vtkDataArray* array = name ? input->GetPointData()->GetArray(name) : nullptr;
+  if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
+  {
+    vtkErrorMacro("NormalArrayName \"" << (name ? name : "")
+                                       << "\" names no point array of 3-component vectors, "
+                                          "one per point; the image is empty.");
+    return false;
+  }
+  normals.resize(3 * static_cast<size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    array->GetTuple(i, normals.data() + 3 * i);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkVolumeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

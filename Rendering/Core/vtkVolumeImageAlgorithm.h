@@ -17,6 +17,7 @@
 #include "vtkImageAlgorithm.h"
 
 #include <string> // For CheckVolume
+#include <vector> // For ReadNormalArray
 
 class vtkCamera;
 class vtkCameraRayModel;
@@ -117,6 +118,15 @@ protected:
    * yet, so that an empty image never comes without a message.
    */
   void WarnIfTransparent(vtkFloatArray* rgba);
+
+  /**
+   * The point array name of input as n 3-component vectors, in double, into normals: false
+   * and an error when it names no such array (the caller leaves the image empty).
+   */
+  bool ReadNormalArray(vtkImageData* input,
+    const char* name,
+    vtkIdType n,
+    std::vector<double>& normals);
 
   // Whether this frame has warned already (PrepareFrame resets it).
   bool FrameWarned = false;

@@ -697,18 +697,9 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
     caster.Shading = shading;
     if (this->NormalArrayName && *this->NormalArrayName)
     {
-      vtkDataArray* array = input->GetPointData()->GetArray(this->NormalArrayName);
-      if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != n)
+      if (!this->ReadNormalArray(input, this->NormalArrayName, n, normals))
       {
-        vtkErrorMacro("NormalArrayName \"" << this->NormalArrayName
-                                           << "\" names no point array of 3-component vectors, "
-                                              "one per point; the image is empty.");
         return 1;
-      }
-      normals.resize(3 * static_cast<size_t>(n));
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        array->GetTuple(i, normals.data() + 3 * i);
       }
       caster.Normals = normals.data();
     }
