@@ -278,6 +278,26 @@ expect_error("table path, Moments 0", first_order_table(moments=0), shading_mode
              needle="Moments")
 expect_error("table path, Moments 2 with non-linear interpolation",
              first_order_table(moments=2), shading_model("nonlinear"), needle="Moments at least 4")
+# A normal array that is missing or not of 3-component vectors: an error and an empty image,
+# from the twin and from the reference integrator alike.
+scalar_name = scene.image.GetPointData().GetScalars().GetName()
+for name in ("NoSuchNormals", scalar_name):
+    image, _, errors = cast(first_order_table(16, 3, 2), 1.0, shading_model("linear"),
+                            normals=name)
+    c.check(empty(image) and "names no point array of 3-component vectors" in " ".join(errors),
+            "the twin refuses the normal array %r (%s)" % (name, errors))
+    integrator = hovr.vtkVolumeReferenceIntegrator()
+    messages = Messages(integrator)
+    integrator.SetInputData(scene.image)
+    integrator.SetVolumeProperty(prop)
+    integrator.SetCamera(scene.camera)
+    integrator.SetImageSize(*SIZE)
+    integrator.SetShadingModel(shading_model())
+    integrator.SetNormalArrayName(name)
+    integrator.Update()
+    c.check(empty(integrator.GetOutput()) and "names no point array of 3-component vectors"
+            in " ".join(messages.errors),
+            "the reference integrator refuses the normal array %r (%s)" % (name, messages.errors))
 front_back = hovr.vtkFirstOrderPreIntegrationTable()
 front_back.SetTableSize(32)
 expect_error("table path, a vtkFirstOrderPreIntegrationTable", front_back,
