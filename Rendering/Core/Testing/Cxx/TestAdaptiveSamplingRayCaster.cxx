@@ -30,7 +30,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeReferenceIntegrator.h"
 
-#include "hovrConstantVolume.h"
+#include "hovrAdaptiveTestScenes.h"
 #include "hovrTestUtilities.h"
 
 #include <algorithm>
@@ -44,73 +44,7 @@ namespace
 {
 hovrTest::Checker check;
 
-constexpr int N = 64;          // points per axis
-constexpr double Sigma = 2.5;  // blob width in voxels
-constexpr double Onset = 0.05; // scalar where opacity starts
-const double Blobs[4][3] = { { 18, 20, 22 }, { 44, 30, 40 }, { 28, 46, 34 }, { 40, 14, 48 } };
-
-// Gaussian blobs in empty space, spacing 1, and the oracle: the distance (world units) to the
-// balls where the opacity varies (blob value above Onset, plus a voxel and a half for the
-// trilinear cells that touch them); the distance field is exact, not an estimate.
-vtkSmartPointer<vtkImageData> MakeBlobs()
-{
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(N, N, N);
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("Scalars");
-  scalars->SetNumberOfTuples(static_cast<vtkIdType>(N) * N * N);
-  vtkNew<vtkFloatArray> oracle;
-  oracle->SetName("OracleDistance");
-  oracle->SetNumberOfTuples(scalars->GetNumberOfTuples());
-  const double radius = Sigma * std::sqrt(2.0 * std::log(1.0 / Onset)) + 1.5;
-  vtkIdType id = 0;
-  for (int z = 0; z < N; ++z)
-  {
-    for (int y = 0; y < N; ++y)
-    {
-      for (int x = 0; x < N; ++x, ++id)
-      {
-        double value = 0.0, distance = 1e30;
-        for (const auto& c : Blobs)
-        {
-          const double r2 =
-            (x - c[0]) * (x - c[0]) + (y - c[1]) * (y - c[1]) + (z - c[2]) * (z - c[2]);
-          value += std::exp(-r2 / (2.0 * Sigma * Sigma));
-          distance = std::min(distance, std::max(0.0, std::sqrt(r2) - radius));
-        }
-        scalars->SetValue(id, static_cast<float>(value));
-        oracle->SetValue(id, static_cast<float>(distance));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(scalars);
-  image->GetPointData()->AddArray(oracle);
-  return image;
-}
-
-void MakeProperty(vtkVolumeProperty* property)
-{
-  vtkNew<vtkColorTransferFunction> color;
-  color->AddRGBPoint(0.0, 0.1, 0.2, 0.9);
-  color->AddRGBPoint(0.5, 0.9, 0.8, 0.2);
-  color->AddRGBPoint(1.0, 1.0, 0.2, 0.1);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0.0, 0.0);
-  opacity->AddPoint(Onset, 0.0);
-  opacity->AddPoint(1.0, 0.6);
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetScalarOpacityUnitDistance(2.0);
-}
-
-void MakeCamera(vtkCamera* camera)
-{
-  camera->SetFocalPoint(31.5, 31.5, 31.5);
-  camera->SetPosition(31.5 + 100.0, 31.5 + 60.0, 31.5 + 80.0);
-  camera->SetViewUp(0, 0, 1);
-  camera->SetParallelProjection(true);
-  camera->SetParallelScale(48.0);
-}
+constexpr int N = hovrTest::BlobPoints;
 
 vtkFloatArray* RGBA(vtkImageData* image)
 {
@@ -265,11 +199,10 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
 {
   hovrTest::MessageCapture messages;
   const int size = 96;
-  auto volume = MakeBlobs();
-  vtkNew<vtkVolumeProperty> property;
-  MakeProperty(property);
+  auto volume = hovrTest::MakeBlobVolume();
+  auto property = hovrTest::MakeBlobProperty(2.0);
   vtkNew<vtkCamera> camera;
-  MakeCamera(camera);
+  hovrTest::MakeBlobCamera(camera);
 
   vtkNew<vtkAdaptiveSamplingRayCaster> caster;
   caster->SetInputData(volume);
@@ -501,15 +434,7 @@ int TestAdaptiveSamplingRayCaster(int, char*[])
   // where it matters) or a NaN from the silhouette misses 1e-3 or more.
   {
     vtkNew<vtkVolumeProperty> flat;
-    vtkNew<vtkColorTransferFunction> color;
-    color->AddRGBPoint(0.0, 0.9, 0.6, 0.3);
-    color->AddRGBPoint(1.0, 0.9, 0.6, 0.3);
-    vtkNew<vtkPiecewiseFunction> opacity;
-    opacity->AddPoint(0.0, 0.0);
-    opacity->AddPoint(1.0, 0.4);
-    flat->SetColor(color);
-    flat->SetScalarOpacity(opacity);
-    flat->SetScalarOpacityUnitDistance(15.0);
+    hovrTest::MakeConstantProperty(flat);
     const int constantSize = 64;
     const double centre[3] = { hovrTest::ConstantOrigin[0] +
         0.5 * (hovrTest::ConstantDims[0] - 1) * hovrTest::ConstantSpacing[0],

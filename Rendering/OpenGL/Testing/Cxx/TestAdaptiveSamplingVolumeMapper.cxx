@@ -21,7 +21,7 @@
 //      core's image and counts (the boundary fetches too), and per pixel the exact
 //      1 - exp(-sigma chord).
 // Every comparison with the CPU core includes the boundary fetches (entry and exit scalars).
-#include "hovrConstantVolume.h"
+#include "hovrAdaptiveTestScenes.h"
 #include "hovrRenderTestUtilities.h"
 
 #include "vtkAdaptiveSamplingRayCaster.h"
@@ -45,76 +45,7 @@ hovrTest::Checker check;
 // magnitude.
 constexpr double ImageTolerance = 1e-5;
 
-constexpr int N = 64;          // points per axis
-constexpr double Sigma = 2.5;  // blob width in voxels
-constexpr double Onset = 0.05; // scalar where opacity starts
-const double Blobs[4][3] = { { 18, 20, 22 }, { 44, 30, 40 }, { 28, 46, 34 }, { 40, 14, 48 } };
-
-// Gaussian blobs in empty space, spacing 1, and an exact oracle: the distance (world units) to
-// the balls where the opacity varies, plus a voxel and a half for the cells touching them.
-// nz points along z from z = z0 (the blobs stay where they are).
-vtkSmartPointer<vtkImageData> MakeBlobs(int nz = N, int z0 = 0)
-{
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(N, N, nz);
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("Scalars");
-  scalars->SetNumberOfTuples(static_cast<vtkIdType>(N) * N * nz);
-  vtkNew<vtkFloatArray> oracle;
-  oracle->SetName("OracleDistance");
-  oracle->SetNumberOfTuples(scalars->GetNumberOfTuples());
-  const double radius = Sigma * std::sqrt(2.0 * std::log(1.0 / Onset)) + 1.5;
-  vtkIdType id = 0;
-  for (int z = z0; z < z0 + nz; ++z)
-  {
-    for (int y = 0; y < N; ++y)
-    {
-      for (int x = 0; x < N; ++x, ++id)
-      {
-        double value = 0.0, distance = 1e30;
-        for (const auto& c : Blobs)
-        {
-          const double r2 =
-            (x - c[0]) * (x - c[0]) + (y - c[1]) * (y - c[1]) + (z - c[2]) * (z - c[2]);
-          value += std::exp(-r2 / (2.0 * Sigma * Sigma));
-          distance = std::min(distance, std::max(0.0, std::sqrt(r2) - radius));
-        }
-        scalars->SetValue(id, static_cast<float>(value));
-        oracle->SetValue(id, static_cast<float>(distance));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(scalars);
-  image->GetPointData()->AddArray(oracle);
-  return image;
-}
-
-vtkSmartPointer<vtkVolumeProperty> MakeProperty(double unitDistance)
-{
-  vtkNew<vtkColorTransferFunction> color;
-  color->AddRGBPoint(0.0, 0.1, 0.2, 0.9);
-  color->AddRGBPoint(0.5, 0.9, 0.8, 0.2);
-  color->AddRGBPoint(1.0, 1.0, 0.2, 0.1);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0.0, 0.0);
-  opacity->AddPoint(Onset, 0.0);
-  opacity->AddPoint(1.0, 0.6);
-  auto property = vtkSmartPointer<vtkVolumeProperty>::New();
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetScalarOpacityUnitDistance(unitDistance);
-  property->SetInterpolationTypeToLinear();
-  return property;
-}
-
-void MakeCamera(vtkCamera* camera, double scale = 48.0)
-{
-  camera->SetFocalPoint(31.5, 31.5, 31.5);
-  camera->SetPosition(31.5 + 100.0, 31.5 + 60.0, 31.5 + 80.0);
-  camera->SetViewUp(0, 0, 1);
-  camera->SetParallelProjection(true);
-  camera->SetParallelScale(scale);
-}
+constexpr int N = hovrTest::BlobPoints;
 
 struct Frame
 {
@@ -138,7 +69,8 @@ struct Scene
     this->Volume->SetMapper(this->Mapper);
     this->Volume->SetProperty(property);
     this->View.GetRenderer()->AddVolume(this->Volume);
-    MakeCamera(this->View.GetCamera()); // before the first frame, which Initialize draws
+    hovrTest::MakeBlobCamera(
+      this->View.GetCamera()); // before the first frame, which Initialize draws
     return this->View.Initialize(width, height);
   }
 
@@ -253,8 +185,8 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
 {
   hovrTest::MessageCapture messages;
   const int size = 96;
-  auto volume = MakeBlobs();
-  auto property = MakeProperty(2.0);
+  auto volume = hovrTest::MakeBlobVolume();
+  auto property = hovrTest::MakeBlobProperty(2.0);
 
   {
     Scene scene;
@@ -316,7 +248,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
       "without counting: the same image, counts -1");
     mapper->CountOperationsOn();
 
-    auto opaque = MakeProperty(0.1);
+    auto opaque = hovrTest::MakeBlobProperty(0.1);
     scene.Volume->SetProperty(opaque);
     const Frame off = scene.Render();
     const Frame offCPU = RenderCPU(volume, opaque, camera, size, size, mapper);
@@ -444,7 +376,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
     }
     mapper->SetMaximumLevel(3);
     {
-      auto thin = MakeBlobs(1);
+      auto thin = hovrTest::MakeBlobVolume(1);
       mapper->SetInputData(thin);
       check(Empty(scene.Render().Image), "1-voxel-thick volume: nothing drawn");
       hovrTest::ExpectError(check, scene.Errors, "at least 2 points", "1-voxel-thick volume");
@@ -499,7 +431,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
   // 4. Fewer slices than 2^l_max: a slab 2 voxels thick through two blobs, seen nearly along
   // its normal.
   {
-    auto slab = MakeBlobs(3, 21);
+    auto slab = hovrTest::MakeBlobVolume(3, 21);
     Scene scene;
     scene.Initialize(size, size, slab, property);
     vtkCamera* camera = scene.View.GetCamera();
@@ -528,15 +460,7 @@ int TestAdaptiveSamplingVolumeMapper(int, char*[])
   {
     const int constantSize = 64;
     vtkNew<vtkVolumeProperty> flat;
-    vtkNew<vtkColorTransferFunction> color;
-    color->AddRGBPoint(0.0, 0.9, 0.6, 0.3);
-    color->AddRGBPoint(1.0, 0.9, 0.6, 0.3);
-    vtkNew<vtkPiecewiseFunction> opacity;
-    opacity->AddPoint(0.0, 0.0);
-    opacity->AddPoint(1.0, 0.4);
-    flat->SetColor(color);
-    flat->SetScalarOpacity(opacity);
-    flat->SetScalarOpacityUnitDistance(15.0);
+    hovrTest::MakeConstantProperty(flat);
     auto constant = hovrTest::MakeConstantVolume(false);
     Scene scene;
     scene.Initialize(constantSize, constantSize, constant, flat);

@@ -1,9 +1,10 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
-// Shared by the adaptive-sampling tests (CPU core and GPU pyramid): a volume whose image is
+// Shared by the adaptive-sampling tests (CPU core and GPU pyramid): Gaussian blobs in empty
+// space with an exact oracle, their transfer functions and view; and a volume whose image is
 // known exactly, a constant scalar on a box of points with non-unit spacing and an offset
-// origin, and the largest difference of a rendered image from that exact image.
-#ifndef hovrConstantVolume_h
-#define hovrConstantVolume_h
+// origin, its transfer functions and the largest difference of an image from the exact one.
+#ifndef hovrAdaptiveTestScenes_h
+#define hovrAdaptiveTestScenes_h
 
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
@@ -21,6 +22,82 @@
 
 namespace hovrTest
 {
+constexpr int BlobPoints = 64;     // points per axis
+constexpr double BlobSigma = 2.5;  // blob width in voxels
+constexpr double BlobOnset = 0.05; // scalar where opacity starts
+constexpr double BlobCentres[4][3] = { { 18, 20, 22 },
+  { 44, 30, 40 },
+  { 28, 46, 34 },
+  { 40, 14, 48 } };
+
+// Gaussian blobs in empty space, spacing 1, and an exact oracle: the distance (world units) to
+// the balls where the opacity varies, plus a voxel and a half for the cells touching them.
+// nz points along z from z = z0 (the blobs stay where they are).
+inline vtkSmartPointer<vtkImageData> MakeBlobVolume(int nz = BlobPoints, int z0 = 0)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(BlobPoints, BlobPoints, nz);
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("Scalars");
+  scalars->SetNumberOfTuples(static_cast<vtkIdType>(BlobPoints) * BlobPoints * nz);
+  vtkNew<vtkFloatArray> oracle;
+  oracle->SetName("OracleDistance");
+  oracle->SetNumberOfTuples(scalars->GetNumberOfTuples());
+  const double radius = BlobSigma * std::sqrt(2.0 * std::log(1.0 / BlobOnset)) + 1.5;
+  vtkIdType id = 0;
+  for (int z = z0; z < z0 + nz; ++z)
+  {
+    for (int y = 0; y < BlobPoints; ++y)
+    {
+      for (int x = 0; x < BlobPoints; ++x, ++id)
+      {
+        double value = 0.0, distance = 1e30;
+        for (const auto& c : BlobCentres)
+        {
+          const double r2 =
+            (x - c[0]) * (x - c[0]) + (y - c[1]) * (y - c[1]) + (z - c[2]) * (z - c[2]);
+          value += std::exp(-r2 / (2.0 * BlobSigma * BlobSigma));
+          distance = std::min(distance, std::max(0.0, std::sqrt(r2) - radius));
+        }
+        scalars->SetValue(id, static_cast<float>(value));
+        oracle->SetValue(id, static_cast<float>(distance));
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(scalars);
+  image->GetPointData()->AddArray(oracle);
+  return image;
+}
+
+// The blobs' transfer functions: opaque from BlobOnset up, colours from blue to red.
+inline vtkSmartPointer<vtkVolumeProperty> MakeBlobProperty(double unitDistance)
+{
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(0.0, 0.1, 0.2, 0.9);
+  color->AddRGBPoint(0.5, 0.9, 0.8, 0.2);
+  color->AddRGBPoint(1.0, 1.0, 0.2, 0.1);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 0.0);
+  opacity->AddPoint(BlobOnset, 0.0);
+  opacity->AddPoint(1.0, 0.6);
+  auto property = vtkSmartPointer<vtkVolumeProperty>::New();
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+  property->SetScalarOpacityUnitDistance(unitDistance);
+  property->SetInterpolationTypeToLinear();
+  return property;
+}
+
+// An oblique parallel view of the blob volume.
+inline void MakeBlobCamera(vtkCamera* camera, double scale = 48.0)
+{
+  camera->SetFocalPoint(31.5, 31.5, 31.5);
+  camera->SetPosition(31.5 + 100.0, 31.5 + 60.0, 31.5 + 80.0);
+  camera->SetViewUp(0, 0, 1);
+  camera->SetParallelProjection(true);
+  camera->SetParallelScale(scale);
+}
+
 constexpr double ConstantValue = 0.5;
 constexpr int ConstantDims[3] = { 40, 33, 27 };
 constexpr double ConstantSpacing[3] = { 1.0, 1.25, 0.8 };
@@ -62,6 +139,21 @@ inline vtkSmartPointer<vtkImageData> MakeConstantVolume(bool varyingOracle, bool
   image->GetPointData()->SetScalars(scalars);
   image->GetPointData()->AddArray(oracle);
   return image;
+}
+
+// The constant volume's transfer functions: one colour, opacity 0.2 at ConstantValue (0.4 at
+// 1), unit distance 15.
+inline void MakeConstantProperty(vtkVolumeProperty* flat)
+{
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(0.0, 0.9, 0.6, 0.3);
+  color->AddRGBPoint(1.0, 0.9, 0.6, 0.3);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 0.0);
+  opacity->AddPoint(1.0, 0.4);
+  flat->SetColor(color);
+  flat->SetScalarOpacity(opacity);
+  flat->SetScalarOpacityUnitDistance(15.0);
 }
 
 // Largest difference, over the pixels and channels of the size x size float "RGBA" image,
@@ -122,4 +214,4 @@ inline double ConstantVolumeError(vtkImageData* image,
 }
 }
 
-#endif
+#endif // hovrAdaptiveTestScenes_h
