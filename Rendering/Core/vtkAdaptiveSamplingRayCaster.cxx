@@ -191,11 +191,11 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
     return 1;
   }
 
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[1] > range[0]))
+  double dataRange[2], range[2];
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
   {
-    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6); // the twin's
+    vtkErrorMacro("The scalars hold no finite value (all NaN); the image is empty.");
+    return 1;
   }
   auto& tables = this->SegmentTables->ByLength;
   tables.resize(static_cast<size_t>(block));

@@ -284,11 +284,11 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   }
 
   // The tables: the scalar range as the CPU core takes it, one table per segment length.
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
-  if (!(range[1] > range[0]))
+  double dataRange[2], range[2];
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
   {
-    range[1] = range[0] + std::max(1.0, std::abs(range[0]) * 1e-6);
+    vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
+    return;
   }
   const int block = 1 << lmax;
   internal.Tables.resize(static_cast<size_t>(block));
