@@ -206,65 +206,12 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   const float* runs = this->IterationEmptyRuns->GetPointer(0);
   float* table = this->Table->GetPointer(0);
   const int nc = this->TableSize, nb = this->ChordSize, nd = this->DeviationSize;
-  if (this->Moments > 0 && nd == 1)
-  {
-    // Shaded first order: a task per centre, the chords in mirrored pairs as below.
-    const size_t stride = 4 * static_cast<size_t>(nc) * nb;
-    this->ForInParts(nc,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        std::vector<float> steps;
-        for (vtkIdType i = begin; i < end; ++i)
-        {
-          for (int j = 0; j <= (nb - 1) / 2; ++j)
-          {
-            const int mirror = nb - 1 - j;
-            kernel.IntegrateMoments(static_cast<int>(i),
-              j,
-              samples,
-              runs,
-              steps,
-              this->Moments,
-              stride,
-              table + 4 * (i + static_cast<vtkIdType>(nc) * j),
-              mirror != j ? table + 4 * (i + static_cast<vtkIdType>(nc) * mirror) : nullptr);
-          }
-        }
-      });
-    return;
-  }
-  if (this->SlabMoments > 0 && nd > 1)
-  {
-    // Shaded second order: the moments of both halves of every slab, tasks as below.
-    const size_t stride = 4 * static_cast<size_t>(nc) * nb * nd;
-    this->ForInParts(static_cast<vtkIdType>(nd) * nc,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        std::vector<float> steps;
-        for (vtkIdType row = begin; row < end; ++row)
-        {
-          const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
-          for (int j = 0; j <= (nb - 1) / 2; ++j)
-          {
-            const int mirror = nb - 1 - j;
-            float* forward = table + 4 * (i + static_cast<vtkIdType>(nc) * (j + nb * k));
-            float* backward = table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k));
-            kernel.IntegrateMoments(i,
-              j,
-              k,
-              true,
-              samples,
-              runs,
-              steps,
-              this->SlabMoments,
-              stride,
-              forward,
-              mirror != j ? backward : nullptr);
-          }
-        }
-      });
-    return;
-  }
+  // Shaded tables hold moment layers (first order: Moments, nd = 1; second order: the
+  // SlabMoments of both halves of every slab), one layer stride apart.
+  const bool firstOrderMoments = this->Moments > 0 && nd == 1;
+  const bool slabMoments = this->SlabMoments > 0 && nd > 1;
+  const int layers = slabMoments ? this->SlabMoments : this->Moments;
+  const size_t stride = 4 * static_cast<size_t>(nc) * nb * nd;
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
   this->ForInParts(static_cast<vtkIdType>(nd) * nc,
@@ -278,9 +225,18 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
         {
           const int mirror = nb - 1 - j;
           float* forward = table + 4 * (i + static_cast<vtkIdType>(nc) * (j + nb * k));
-          float* backward = table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k));
-          kernel.Integrate(
-            i, j, k, samples, runs, steps, forward, mirror != j ? backward : nullptr);
+          float* backward = mirror != j
+            ? table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k))
+            : nullptr;
+          if (firstOrderMoments || slabMoments)
+          {
+            kernel.IntegrateMoments(
+              i, j, k, slabMoments, samples, runs, steps, layers, stride, forward, backward);
+          }
+          else
+          {
+            kernel.Integrate(i, j, k, samples, runs, steps, forward, backward);
+          }
         }
       }
     });

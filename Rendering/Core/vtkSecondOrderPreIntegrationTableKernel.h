@@ -179,18 +179,6 @@ struct vtkSecondOrderPreIntegrationTableKernel
   static constexpr int MomentSteps = 16;
   void IntegrateMoments(int i,
     int j,
-    const float* samples,
-    const float* runs,
-    std::vector<float>& steps,
-    int layers,
-    size_t stride,
-    float* forward,
-    float* backward) const
-  {
-    this->IntegrateMoments(i, j, 0, false, samples, runs, steps, layers, stride, forward, backward);
-  }
-  void IntegrateMoments(int i,
-    int j,
     int k,
     bool halves,
     const float* samples,
