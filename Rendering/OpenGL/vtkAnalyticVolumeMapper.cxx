@@ -210,15 +210,14 @@ bool vtkAnalyticVolumeMapper::UpdateBlockRanges(vtkRenderer* ren,
   ComputeBlockRanges(scalars, dims, this->BlockSize, scale, shift, blocks, ranges);
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   this->BlockTexture->ReleaseGraphicsResources(context);
-  this->BlockTexture->SetContext(context);
   this->BlockTexture->SetInternalFormat(GL_RG32F);
   this->BlockTexture->SetFormat(GL_RG);
   this->BlockTexture->SetDataType(GL_FLOAT);
-  if (!this->BlockTexture->Create3DFromRaw(
-        blocks[0], blocks[1], blocks[2], 2, VTK_FLOAT, ranges.data()))
+  std::string why;
+  if (!this->CreateTexture3D(
+        this->BlockTexture, context, blocks, 2, VTK_FLOAT, ranges.data(), "block-range texture", why))
   {
-    vtkErrorMacro("Could not create the " << blocks[0] << " x " << blocks[1] << " x " << blocks[2]
-                                          << " block-range texture.");
+    vtkErrorMacro(<< why << "; not drawing.");
     this->BlockTextureMemorySize = 0;
     return false;
   }
@@ -252,7 +251,6 @@ bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
   const int type = scalars->GetDataType();
   const size_t texels = static_cast<size_t>(dims[0] - 1) * (dims[1] - 1) * dims[2];
   this->CornerTexture->ReleaseGraphicsResources(context);
-  this->CornerTexture->SetContext(context);
   this->CornerTexture->SetFormat(GL_RGBA);
   bool created = false;
   // 4 values per point: in the data's type for 8- and 16-bit unsigned data, else float.
@@ -260,7 +258,7 @@ bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
     (type == VTK_UNSIGNED_CHAR       ? 1
         : type == VTK_UNSIGNED_SHORT ? 2
                                      : 4);
-  const char* failure = "the texture could not be created";
+  std::string failure = "the texture could not be created";
   try
   {
     // One texel type per scalar type: its conversion, GL internal format and data type.
@@ -270,8 +268,9 @@ bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
       PackCorners(scalars, dims, convert, packed);
       this->CornerTexture->SetInternalFormat(internalFormat);
       this->CornerTexture->SetDataType(glType);
-      return this->CornerTexture->Create3DFromRaw(
-        dims[0] - 1, dims[1] - 1, dims[2], 4, vtkType, packed.data());
+      const int size[3] = { dims[0] - 1, dims[1] - 1, dims[2] };
+      return this->CreateTexture3D(this->CornerTexture, context, size, 4, vtkType,
+        packed.data(), "packed-corner texture", failure);
     };
     if (type == VTK_UNSIGNED_CHAR)
     {
@@ -479,18 +478,6 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
       this->WarnFallbackOnce(reason);
       return DrawStock;
     }
-    GLint max3D = 0;
-    if (vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()))
-    {
-      glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
-    }
-    if (max3D > 0 && (dims[0] > max3D || dims[1] > max3D || dims[2] > max3D))
-    {
-      this->WarnFallbackOnce(
-        "the volume exceeds the largest 3D texture, and analytic rendering needs "
-        "it in one block");
-      return DrawStock;
-    }
   }
   this->ClearFallbackWarning();
 
@@ -564,7 +551,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   }
   // Packed corners unless their copy could not be made for these scalars (tried again when
   // they change): the cells are then read from VTK's texture, with the same image.
+  const int valueBytes = scalars->GetDataType() == VTK_UNSIGNED_CHAR ? 1
+    : scalars->GetDataType() == VTK_UNSIGNED_SHORT                    ? 2
+                                                                      : 4;
+  const double packedBytes = 4.0 * valueBytes * (dims[0] - 1) * (dims[1] - 1.0) * dims[2];
   this->PackedThisFrame = this->Method == ANALYTIC && this->CornerPacking &&
+    packedBytes <= this->CornerPackingMemoryLimit &&
     !(scalars == this->UnpackableScalars && scalars->GetMTime() == this->UnpackableTime);
   if (this->PackedThisFrame && !this->UpdateCornerTexture(ren, scalars, dims, scale, shift))
   {
@@ -723,6 +715,7 @@ void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BlockSize: " << this->BlockSize << "\n";
   os << indent << "BlockTextureMemorySize: " << this->BlockTextureMemorySize << "\n";
   os << indent << "CornerPacking: " << this->CornerPacking << "\n";
+  os << indent << "CornerPackingMemoryLimit: " << this->CornerPackingMemoryLimit << "\n";
   os << indent << "CornerTextureMemorySize: " << this->CornerTextureMemorySize << "\n";
   os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
 }

@@ -31,9 +31,9 @@
  * instead, as the stock shader does; PrintSelf reports which (RayFrameInUse).
  *
  * Limits (each reported once, then VTK's stock shader draws): single-component point scalars
- * in one texture block (no cell data, no partitioned volumes), no cropping, 1D transfer
- * functions. Empty volumes or volumes with fewer than 2 points along an axis are not drawn,
- * with an error.
+ * (no cell data), no cropping, 1D transfer functions. Volumes whose texture the GPU cannot
+ * hold in one piece (CheckVolumeTexture), empty volumes and volumes with fewer than 2 points
+ * along an axis are not drawn, with an error.
  */
 #ifndef vtkAnalyticVolumeMapper_h
 #define vtkAnalyticVolumeMapper_h
@@ -115,7 +115,8 @@ public:
    * Read each cell's 8 corners with 2 texture fetches instead of 8, from a second copy of the
    * volume holding 4 points per texel (the point and its neighbours in x, y and both). Costs
    * 4 values per point of GPU memory (in the data's type for 8- and 16-bit unsigned scalars,
-   * else float: 4, 8 or 16 bytes per point) for a quarter of the fetches per cell. The image
+   * else float: 4, 8 or 16 bytes per point) for a quarter of the fetches per cell, so it is
+   * made only when it fits in CornerPackingMemoryLimit (and MaximumTextureBytes). The image
    * is the same either way. When the copy cannot be made (not enough memory, or the GPU
    * refuses the texture), the cells are read from VTK's volume texture after one warning,
    * until the scalars change. Initial value is on.
@@ -123,6 +124,17 @@ public:
   vtkSetMacro(CornerPacking, bool);
   vtkGetMacro(CornerPacking, bool);
   vtkBooleanMacro(CornerPacking, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The largest packed-corner copy (CornerPacking), in bytes of GPU memory; a volume whose
+   * copy would be larger reads its cells from VTK's volume texture, with the same image.
+   * Initial value is 256 MiB: the copy of a float volume of up to 256^3 points, a 16-bit one
+   * of 323^3 or an 8-bit one of 407^3.
+   */
+  vtkSetClampMacro(CornerPackingMemoryLimit, double, 0.0, 1e15);
+  vtkGetMacro(CornerPackingMemoryLimit, double);
   ///@}
 
   /**
@@ -188,7 +200,8 @@ protected:
   bool ScalarsHaveNaN = false;
   vtkCameraRayModel* RayModel;
   bool CornerPacking = true;
-  bool PackedThisFrame = false; // CornerPacking, unless the copy failed for these scalars
+  double CornerPackingMemoryLimit = 256.0 * 1048576.0;
+  bool PackedThisFrame = false; // CornerPacking within the limit, unless the copy failed
   vtkDataArray* UnpackableScalars = nullptr; // not referenced: only compared
   vtkMTimeType UnpackableTime = 0;
   vtkTextureObject* CornerTexture;

@@ -9,17 +9,22 @@
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderPass.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
+#include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
 #include "vtkVolume.h"
 #include "vtkVolumeImageAlgorithm.h"
 #include "vtkVolumeProperty.h"
+#include "vtk_glew.h"
 
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <sstream>
 #include <string>
 
 //------------------------------------------------------------------------------
@@ -111,8 +116,16 @@ bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(std::string& source,
 //------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
 {
+  // VTK draws nothing, with no error but log lines, from a volume texture it cannot create:
+  // checked for the input's own scalars first, and for texture scalars the frame sets.
+  if (!this->CheckFrameVolumeTexture(ren, nullptr))
+  {
+    return;
+  }
   const FramePlan plan = this->PrepareExtension(ren, vol);
-  if (plan == DrawNothing)
+  if (plan == DrawNothing ||
+    (plan == DrawWithExtension && this->TextureScalars &&
+      !this->CheckFrameVolumeTexture(ren, this->TextureScalars)))
   {
     return;
   }
@@ -198,6 +211,121 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
+  os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
+}
+
+//------------------------------------------------------------------------------
+std::string vtkExtensibleGPUVolumeRayCastMapper::CheckTexture3D(vtkOpenGLRenderWindow* context,
+  const int dims[3],
+  double bytesPerTexel,
+  const char* what)
+{
+  const int largest = context ? vtkTextureObject::GetMaximumTextureSize3D(context) : 0;
+  std::ostringstream why;
+  if (largest > 0 && std::max({ dims[0], dims[1], dims[2] }) > largest)
+  {
+    why << "the " << what << " (" << dims[0] << " x " << dims[1] << " x " << dims[2]
+        << ") has an axis longer than the GPU's largest 3D texture (GL_MAX_3D_TEXTURE_SIZE "
+        << largest << ")";
+    return why.str();
+  }
+  const double bytes = bytesPerTexel * dims[0] * static_cast<double>(dims[1]) * dims[2];
+  if (bytes > static_cast<double>(this->MaximumTextureBytes))
+  {
+    why << "the " << what << " (" << dims[0] << " x " << dims[1] << " x " << dims[2] << ", "
+        << std::ceil(bytes / 1048576.0) << " MiB) exceeds MaximumTextureBytes ("
+        << std::floor(this->MaximumTextureBytes / 1048576.0) << " MiB)";
+    return why.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::CreateTexture3D(vtkTextureObject* texture,
+  vtkOpenGLRenderWindow* context,
+  const int dims[3],
+  int components,
+  int vtkType,
+  void* data,
+  const char* what,
+  std::string& why)
+{
+  why = this->CheckTexture3D(context, dims, components * vtkDataArray::GetDataTypeSize(vtkType), what);
+  if (why.empty())
+  {
+    // Errors left by earlier calls are not this upload's.
+    for (int n = 0; n < 16 && glGetError() != GL_NO_ERROR; ++n)
+    {
+    }
+    texture->SetContext(context);
+    const bool created =
+      texture->Create3DFromRaw(dims[0], dims[1], dims[2], components, vtkType, data);
+    const GLenum error = glGetError();
+    if (!created || error != GL_NO_ERROR)
+    {
+      std::ostringstream message;
+      message << "OpenGL could not create the " << what << " (" << dims[0] << " x " << dims[1]
+              << " x " << dims[2] << ")";
+      if (error == GL_OUT_OF_MEMORY)
+      {
+        message << ": out of memory";
+      }
+      else if (error != GL_NO_ERROR)
+      {
+        message << ": error 0x" << std::hex << error;
+      }
+      why = message.str();
+    }
+  }
+  if (!why.empty())
+  {
+    texture->ReleaseGraphicsResources(context);
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::CheckFrameVolumeTexture(
+  vtkRenderer* ren, vtkDataArray* uploaded)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int cellFlag = 0;
+  vtkDataArray* own = input
+    ? vtkAbstractMapper::GetScalars(
+        input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+    : nullptr;
+  uploaded = uploaded ? uploaded : own;
+  if (!uploaded)
+  {
+    return true; // VTK reports the missing input or scalars itself
+  }
+  int dims[3];
+  input->GetDimensions(dims);
+  for (int a = 0; cellFlag && a < 3; ++a)
+  {
+    dims[a] = std::max(dims[a] - 1, 1);
+  }
+  const std::string why = this->CheckVolumeTexture(ren, uploaded, dims);
+  if (!why.empty())
+  {
+    vtkErrorMacro("Cannot draw the volume: " << why << ". Not drawing.");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkExtensibleGPUVolumeRayCastMapper::CheckVolumeTexture(vtkRenderer* ren,
+  vtkDataArray* uploaded,
+  const int dims[3])
+{
+  // vtkVolumeTexture keeps 8-, 16- and 32-bit floating types and makes floats of the others.
+  const int size = uploaded->GetDataTypeSize();
+  const double bytes = uploaded->GetNumberOfComponents() *
+    (uploaded->GetDataType() == VTK_FLOAT || size <= 2 ? size : 4);
+  return this->CheckTexture3D(
+    vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()), dims, bytes, "volume texture");
 }
 
 //------------------------------------------------------------------------------

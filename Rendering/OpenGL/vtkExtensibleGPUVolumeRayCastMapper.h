@@ -32,8 +32,10 @@
 #include <string> // For std::string
 
 class vtkGPURayCastShaderHook;
+class vtkOpenGLRenderWindow;
 class vtkPiecewiseFunction;
 class vtkShaderProgram;
+class vtkTextureObject;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkExtensibleGPUVolumeRayCastMapper
   : public vtkOpenGLGPUVolumeRayCastMapper
@@ -88,6 +90,19 @@ public:
    */
   double* GetBounds() VTK_SIZEHINT(6) override;
   using vtkAbstractMapper3D::GetBounds;
+
+  ///@{
+  /**
+   * The largest 3D texture, in bytes, that the mapper creates, or lets VTK create, for the
+   * volume and its copies (the volume texture, packed corners, normals, the oracle). OpenGL
+   * implementations may accept a larger texture and then read it wrongly without reporting an
+   * error, so every such texture is checked against this limit and against the context's
+   * GL_MAX_3D_TEXTURE_SIZE before it is created, and OpenGL's error state is checked after.
+   * Initial value is 1 GiB.
+   */
+  vtkSetClampMacro(MaximumTextureBytes, vtkIdType, 1024, VTK_ID_MAX);
+  vtkGetMacro(MaximumTextureBytes, vtkIdType);
+  ///@}
 
 protected:
   vtkExtensibleGPUVolumeRayCastMapper();
@@ -188,6 +203,40 @@ protected:
   static bool IsConstantOne(vtkPiecewiseFunction* function);
 
   /**
+   * Why a 3D texture of dims texels of bytesPerTexel bytes, named `what` in the message,
+   * cannot be created in this context: an axis beyond GL_MAX_3D_TEXTURE_SIZE, or more than
+   * MaximumTextureBytes. Empty when it can.
+   */
+  std::string CheckTexture3D(vtkOpenGLRenderWindow* context,
+    const int dims[3],
+    double bytesPerTexel,
+    const char* what);
+
+  /**
+   * Create3DFromRaw() after CheckTexture3D(), with the texture's formats already set, then
+   * OpenGL's error state: false, the texture released and why set, on any failure.
+   */
+  bool CreateTexture3D(vtkTextureObject* texture,
+    vtkOpenGLRenderWindow* context,
+    const int dims[3],
+    int components,
+    int vtkType,
+    void* data,
+    const char* what,
+    std::string& why);
+
+  /**
+   * Why VTK's volume texture of the input cannot be created (CheckTexture3D() for the
+   * array VTK uploads, the texture scalars when set), empty when it can. VTK itself would draw
+   * nothing then, with no error but its log lines.
+   */
+  std::string CheckVolumeTexture(vtkRenderer* ren, vtkDataArray* uploaded, const int dims[3]);
+
+  // CheckVolumeTexture() for this frame's input and `uploaded` (nullptr: the input's own
+  // scalars); false after an error when VTK could not create the texture.
+  bool CheckFrameVolumeTexture(vtkRenderer* ren, vtkDataArray* uploaded);
+
+  /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
    */
   void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
@@ -200,6 +249,7 @@ protected:
 
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
+  vtkIdType MaximumTextureBytes = vtkIdType(1) << 30;
   vtkMTimeType ReportedBoundsTime = 0; // the input time whose bounds GetBounds reported
   std::string FragmentShaderSource;
   std::string LastFallbackWarning;

@@ -160,16 +160,19 @@ c.check(stock["missed_hits"] > 20 and analytic["missed_hits"] * 10 < stock["miss
 # Corner packing reads the same values in 2 fetches instead of 8: the same images too, for
 # float, 8-bit and 16-bit data (each stored in its own type).
 class Blocked(hm.AnalyticMethod):
-    def __init__(self, blend, size, packing=True):
+    def __init__(self, blend, size, packing=True, packing_limit=None):
         super().__init__("%s-blocks%d" % (blend, size), "", blend, True)
         self.size = size
         self.packing = packing
+        self.packing_limit = packing_limit
         self.mapper = None
 
     def make_mapper(self):
         self.mapper = super().make_mapper()
         self.mapper.SetBlockSize(self.size)
         self.mapper.SetCornerPacking(self.packing)
+        if self.packing_limit is not None:
+            self.mapper.SetCornerPackingMemoryLimit(self.packing_limit)
         # The textures are released with the volume after the frame: read their size then.
         self.bytes = 0
         self.mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, self.on_end)
@@ -200,7 +203,12 @@ for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
                                         ("thin48 uint8", thin8, "mip", []),
                                         ("ml41 uint16", ml16, "iso", [30000.5])):
     scene = scene_for(volume, blend, isovalues)
-    methods = [Blocked(blend, size) for size in (0, 3, 8)] + [Blocked(blend, 8, False)]
+    dims = volume.GetDimensions()
+    per_point = {"uint8": 4, "uint16": 8}.get(label.split()[-1], 16)
+    expected = (dims[0] - 1) * (dims[1] - 1) * dims[2] * per_point
+    # The last one's copy would be a byte over CornerPackingMemoryLimit: it reads VTK's texture.
+    methods = [Blocked(blend, size) for size in (0, 3, 8)] + [Blocked(blend, 8, False),
+                                                               Blocked(blend, 8, True, expected - 1)]
     images = [renderer.render(m, scene, 1.0).image for m in methods]
     arrays = [vtk_to_numpy(i.GetPointData().GetScalars()) for i in images]
     extra = [vtk_to_numpy(i.GetPointData().GetArray(hm.BLEND_ARRAYS[blend])) for i in images]
@@ -212,16 +220,16 @@ for label, volume, blend, isovalues in (("thin48", thin, "iso", [0.5]),
         numpy.nanmax(numpy.abs(extra[0] - e)) <= 1e-5 * (high - low) for e in extra[1:])
     c.check(same, "%s %s: block sizes 0, 3 and 8, with and without corner packing, give the "
             "same image and %s (to 1e-5 of the range)" % (label, blend, hm.BLEND_ARRAYS[blend]))
-    dims = volume.GetDimensions()
-    per_point = {"uint8": 4, "uint16": 8}.get(label.split()[-1], 16)
-    expected = (dims[0] - 1) * (dims[1] - 1) * dims[2] * per_point
-    c.check(methods[0].bytes == expected and methods[3].bytes == 0,
-            "%s: the packed corners take %d bytes per point (%d), none without packing" % (
-                label, per_point, methods[0].bytes))
+    c.check(methods[0].bytes == expected and methods[3].bytes == 0 and methods[4].bytes == 0,
+            "%s: the packed corners take %d bytes per point (%d), none without packing or "
+            "over CornerPackingMemoryLimit" % (label, per_point, methods[0].bytes))
 mapper = hovr.vtkAnalyticVolumeMapper()
 c.check(mapper.GetBlockSize() == 8 and mapper.GetBlockTextureMemorySize() == 0 and
-        mapper.GetCornerPacking() and mapper.GetCornerTextureMemorySize() == 0,
-        "block size 8 and corner packing by default, no texture before the first frame")
+        mapper.GetCornerPacking() and mapper.GetCornerTextureMemorySize() == 0 and
+        mapper.GetCornerPackingMemoryLimit() == 256 * 2 ** 20 and
+        mapper.GetMaximumTextureBytes() == 2 ** 30,
+        "block size 8, corner packing up to 256 MiB and textures up to 1 GiB by default, no "
+        "texture before the first frame")
 
 
 # Bad input, through the mapper itself.
@@ -274,6 +282,15 @@ image, messages, frames = draw(ml, "mip", setup=lambda m: (
     m.SetCropping(1), m.SetCroppingRegionPlanes(-1, 0.5, -1, 1, -1, 1)))
 c.check(len(messages.warnings) == 1 and "cropping" in messages.warnings[0] and frames == 0,
         "cropping: one warning, drawn by VTK's stock shader")
+# A volume texture the GPU cannot hold (over MaximumTextureBytes, or an axis beyond
+# GL_MAX_3D_TEXTURE_SIZE): an error, never an empty image without one.
+image, messages, frames = draw(ml, "mip", setup=lambda m: m.SetMaximumTextureBytes(41 ** 3 * 4 - 1))
+c.check(any("exceeds MaximumTextureBytes" in m for m in messages.errors) and image.max() == 0.0,
+        "a volume texture over MaximumTextureBytes: an error, nothing drawn")
+image, messages, frames = draw(
+    image_from_array(numpy.ones((3, 3, 2100), dtype=numpy.float32)), "mip")
+c.check(any("GL_MAX_3D_TEXTURE_SIZE" in m for m in messages.errors) and image.max() == 0.0,
+        "an axis beyond GL_MAX_3D_TEXTURE_SIZE: an error, nothing drawn")
 values = vtk_to_numpy(ml.GetPointData().GetScalars()).reshape(41, 41, 41).copy()
 values[20, 20, 10:30] = numpy.nan
 nan_volume = image_from_array(values, ml.GetSpacing(), ml.GetOrigin())
