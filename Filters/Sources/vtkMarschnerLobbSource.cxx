@@ -8,12 +8,14 @@
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <vtksys/SystemInformation.hxx>
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 vtkStandardNewMacro(vtkMarschnerLobbSource);
 
@@ -98,27 +100,41 @@ void vtkMarschnerLobbSource::ExecuteDataWithInformation(vtkDataObject* outputObj
     scale = 65535.0;
   }
   const bool integer = scale != 1.0;
-  vtkIdType id = 0;
-  for (int k = extent[4]; k <= extent[5]; ++k)
+  // Eq. of Evaluate() with its terms in x, y and in z computed once per column and per
+  // slice (the same operations, so the same values), slices in parallel.
+  const double pi = vtkMath::Pi();
+  const double fm = this->Frequency, alpha = this->Alpha;
+  const vtkIdType nx = extent[1] - extent[0] + 1, ny = extent[3] - extent[2] + 1;
+  std::vector<double> rho(static_cast<size_t>(nx * ny));
+  for (vtkIdType j = 0; j < ny; ++j)
   {
-    for (int j = extent[2]; j <= extent[3]; ++j)
+    for (vtkIdType i = 0; i < nx; ++i)
     {
-      for (int i = extent[0]; i <= extent[1]; ++i, ++id)
-      {
-        double v = scale *
-          Evaluate(origin[0] + i * spacing[0],
-            origin[1] + j * spacing[1],
-            origin[2] + k * spacing[2],
-            this->Frequency,
-            this->Alpha);
-        if (integer)
-        {
-          v = std::min(std::max(std::round(v), 0.0), scale);
-        }
-        scalars->SetComponent(id, 0, v);
-      }
+      const double x = origin[0] + (extent[0] + i) * spacing[0];
+      const double y = origin[1] + (extent[2] + j) * spacing[1];
+      const double r = std::sqrt(x * x + y * y);
+      rho[i + nx * j] = std::cos(2.0 * pi * fm * std::cos(pi * r / 2.0));
     }
   }
+  vtkSMPTools::For(extent[4], extent[5] + 1,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType k = begin; k < end; ++k)
+      {
+        const double z = origin[2] + k * spacing[2];
+        const double sz = std::sin(pi * z / 2.0);
+        vtkIdType id = (k - extent[4]) * nx * ny;
+        for (vtkIdType c = 0; c < nx * ny; ++c, ++id)
+        {
+          double v = scale * ((1.0 - sz + alpha * (1.0 + rho[c])) / (2.0 * (1.0 + alpha)));
+          if (integer)
+          {
+            v = std::min(std::max(std::round(v), 0.0), scale);
+          }
+          scalars->SetComponent(id, 0, v);
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -219,16 +219,15 @@ int vtkAdaptiveSamplingRayCaster::RequestData(vtkInformation*,
     pieces[k - 1].Table = vtkPreIntegrationRayMarch::TableView::Of(table);
   }
 
-  std::vector<double> values(static_cast<size_t>(numberOfPoints));
-  for (vtkIdType i = 0; i < numberOfPoints; ++i)
-  {
-    values[i] = scalars->GetComponent(i, 0);
-  }
   vtkPreIntegrationRayMarch::Grid grid;
-  grid.Values = values.data();
+  if (!grid.Values.SetArray(scalars))
+  {
+    vtkErrorMacro("Not enough memory for a double copy of the volume; the image is empty.");
+    return 1;
+  }
   std::copy(dims, dims + 3, grid.Dims);
   vtkPreIntegrationRayMarch::Grid oracleGrid = grid;
-  oracleGrid.Values = oracle.data();
+  oracleGrid.Values.SetValues(oracle.data(), static_cast<vtkIdType>(oracle.size()));
 
   // World -> 0-based continuous grid index, as the twin maps it.
   vtkNew<vtkMatrix4x4> toIndex;

@@ -144,13 +144,12 @@ int vtkPreIntegrationRayCaster::RequestData(vtkInformation*,
     return 1;
   }
 
-  std::vector<double> values(static_cast<size_t>(scalars->GetNumberOfTuples()));
-  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
-  {
-    values[i] = scalars->GetComponent(i, 0);
-  }
   vtkPreIntegrationRayMarch::Grid grid;
-  grid.Values = values.data();
+  if (!grid.Values.SetArray(scalars))
+  {
+    vtkErrorMacro("Not enough memory for a double copy of the volume; the image is empty.");
+    return 1;
+  }
   std::copy(dims, dims + 3, grid.Dims);
   vtkPreIntegrationRayMarch::TablePieces table;
   table.Table = vtkPreIntegrationRayMarch::TableView::Of(this->Table);

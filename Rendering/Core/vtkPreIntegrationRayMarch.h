@@ -33,6 +33,7 @@
 #include "vtkFloatArray.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkType.h"
+#include "vtkVolumeScalarView.h"
 #include "vtkVolumeShadingModel.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
@@ -47,7 +48,7 @@ public:
   // continuous grid index.
   struct Grid
   {
-    const double* Values = nullptr;
+    vtkVolumeScalarView Values;
     int Dims[3] = { 2, 2, 2 };
 
     // Trilinear value at p (clamped to the box of the points).
@@ -63,11 +64,12 @@ public:
       }
       const vtkIdType sy = this->Dims[0];
       const vtkIdType sz = sy * this->Dims[1];
-      const double* v = this->Values + cell[0] + sy * cell[1] + sz * cell[2];
+      double v[8];
+      this->Values.GetCellCorners(cell[0] + sy * cell[1] + sz * cell[2], sy, sz, v);
       const double c00 = v[0] + w[0] * (v[1] - v[0]);
-      const double c10 = v[sy] + w[0] * (v[sy + 1] - v[sy]);
-      const double c01 = v[sz] + w[0] * (v[sz + 1] - v[sz]);
-      const double c11 = v[sz + sy] + w[0] * (v[sz + sy + 1] - v[sz + sy]);
+      const double c10 = v[2] + w[0] * (v[3] - v[2]);
+      const double c01 = v[4] + w[0] * (v[5] - v[4]);
+      const double c11 = v[6] + w[0] * (v[7] - v[6]);
       const double c0 = c00 + w[1] * (c10 - c00);
       const double c1 = c01 + w[1] * (c11 - c01);
       return c0 + w[2] * (c1 - c0);

@@ -166,7 +166,6 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   std::vector<Candidate> Candidates;
   std::vector<Ray> Rays;
   std::vector<double> Reference;
-  std::vector<double> Values;
   March::Grid Grid;
   int Order = 2;
   double Step = 1.0;
@@ -318,21 +317,13 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   const bool reuse = key == I.ReferenceKey;
   I.ReferenceKey.clear();
 
-  // The volume in double, and the world -> 0-based grid index map.
-  try
-  {
-    I.Values.resize(static_cast<size_t>(scalars->GetNumberOfTuples()));
-  }
-  catch (const std::bad_alloc&)
+  // The volume read in place (a double copy only for arrays that cannot be), and the world
+  // -> 0-based grid index map.
+  if (!I.Grid.Values.SetArray(scalars))
   {
     vtkErrorMacro("Not enough memory for a double copy of the volume.");
     return false;
   }
-  for (vtkIdType i = 0; !reuse && i < scalars->GetNumberOfTuples(); ++i)
-  {
-    I.Values[i] = scalars->GetComponent(i, 0);
-  }
-  I.Grid.Values = I.Values.data();
   std::copy(dims, dims + 3, I.Grid.Dims);
   I.Order = order;
   I.Step = sampleDistance;
@@ -425,7 +416,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       directions.insert(directions.end(), ray.V, ray.V + 3);
     }
     I.Reference.assign(4 * I.Rays.size(), 0.0);
-    vtkVolumeReferenceIntegrator::IntegrateRays(I.Values.data(),
+    vtkVolumeReferenceIntegrator::IntegrateRays(I.Grid.Values,
       dims,
       sampler,
       tolerance,

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 vtkStandardNewMacro(vtkRGBAErrorMetrics);
 
@@ -85,6 +86,7 @@ int vtkRGBAErrorMetrics::RequestData(vtkInformation*,
   vtkInformationVector* outputVector)
 {
   this->RMSE = this->MaximumError = -1.0;
+  this->NumberOfMeasuredPixels = 0;
   std::fill(this->ChannelRMSE, this->ChannelRMSE + 4, -1.0);
   std::fill(this->ChannelMaximumError, this->ChannelMaximumError + 4, -1.0);
   vtkImageData* test = vtkImageData::GetData(inputVector[0]);
@@ -121,27 +123,40 @@ int vtkRGBAErrorMetrics::RequestData(vtkInformation*,
   diff->SetNumberOfTuples(n);
   double sum[4] = { 0, 0, 0, 0 };
   double peak[4] = { 0, 0, 0, 0 };
+  vtkIdType measured = 0;
   for (vtkIdType i = 0; i < n; ++i)
   {
+    // A reference pixel with a NaN channel was not computed (a sampled reference).
+    bool computed = true;
     for (int c = 0; c < 4; ++c)
     {
-      const double d = std::abs(a->GetComponent(i, c) - b->GetComponent(i, c));
-      diff->SetTypedComponent(i, c, static_cast<float>(d));
-      sum[c] += d * d;
-      peak[c] = std::max(peak[c], d);
+      computed = computed && !std::isnan(b->GetComponent(i, c));
     }
+    for (int c = 0; c < 4; ++c)
+    {
+      const double d = computed ? std::abs(a->GetComponent(i, c) - b->GetComponent(i, c))
+                                : std::numeric_limits<double>::quiet_NaN();
+      diff->SetTypedComponent(i, c, static_cast<float>(d));
+      if (computed)
+      {
+        sum[c] += d * d;
+        peak[c] = std::max(peak[c], d);
+      }
+    }
+    measured += computed ? 1 : 0;
   }
+  this->NumberOfMeasuredPixels = measured;
   output->GetPointData()->SetScalars(diff);
   double total = 0.0;
   this->MaximumError = 0.0;
   for (int c = 0; c < 4; ++c)
   {
-    this->ChannelRMSE[c] = n > 0 ? std::sqrt(sum[c] / n) : 0.0;
+    this->ChannelRMSE[c] = measured > 0 ? std::sqrt(sum[c] / measured) : 0.0;
     this->ChannelMaximumError[c] = peak[c];
     this->MaximumError = std::max(this->MaximumError, peak[c]);
     total += sum[c];
   }
-  this->RMSE = n > 0 ? std::sqrt(total / (4.0 * n)) : 0.0;
+  this->RMSE = measured > 0 ? std::sqrt(total / (4.0 * measured)) : 0.0;
   return 1;
 }
 
@@ -152,4 +167,5 @@ void vtkRGBAErrorMetrics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ArrayName: " << (this->ArrayName ? this->ArrayName : "(none)") << "\n";
   os << indent << "RMSE: " << this->RMSE << "\n";
   os << indent << "MaximumError: " << this->MaximumError << "\n";
+  os << indent << "NumberOfMeasuredPixels: " << this->NumberOfMeasuredPixels << "\n";
 }

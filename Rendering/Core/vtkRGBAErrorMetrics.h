@@ -10,8 +10,10 @@
  *
  * After an update, GetRMSE() is the root mean square over all pixels and the 4 channels,
  * GetMaximumError() the largest absolute difference, and the per-channel variants the same for
- * one channel (0 = red ... 3 = alpha). One implementation used by the tests, the benchmark and
- * the demo. Mismatched inputs give an error and metrics of -1.
+ * one channel (0 = red ... 3 = alpha). Reference pixels holding NaN were not computed (a
+ * reference integrated on a sample of the pixels, vtkVolumeReferenceIntegrator::PixelFraction):
+ * they are left out of the metrics, and their difference is NaN. One implementation used by
+ * the tests, the benchmark and the demo. Mismatched inputs give an error and metrics of -1.
  */
 #ifndef vtkRGBAErrorMetrics_h
 #define vtkRGBAErrorMetrics_h
@@ -52,6 +54,11 @@ public:
   double GetChannelMaximumError(int channel) const;
   ///@}
 
+  /**
+   * Pixels the last update measured: those whose reference holds no NaN.
+   */
+  vtkGetMacro(NumberOfMeasuredPixels, vtkIdType);
+
 protected:
   vtkRGBAErrorMetrics();
   ~vtkRGBAErrorMetrics() override;
@@ -66,6 +73,7 @@ protected:
   double MaximumError = -1.0;
   double ChannelRMSE[4] = { -1, -1, -1, -1 };
   double ChannelMaximumError[4] = { -1, -1, -1, -1 };
+  vtkIdType NumberOfMeasuredPixels = 0;
 
 private:
   vtkRGBAErrorMetrics(const vtkRGBAErrorMetrics&) = delete;

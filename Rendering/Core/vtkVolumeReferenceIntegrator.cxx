@@ -26,7 +26,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdint>
 #include <new>
+#include <numeric>
+#include <random>
 #include <vector>
 
 vtkStandardNewMacro(vtkVolumeReferenceIntegrator);
@@ -36,7 +39,7 @@ namespace
 // Everything a ray needs, read-only and shared by the threads.
 struct VolumeGrid
 {
-  const double* Values = nullptr; // x fastest
+  vtkVolumeScalarView Values; // x fastest
   int Dims[3];
   double PhysicalToIndex[16]; // world point -> 0-based continuous grid index
 };
@@ -61,6 +64,7 @@ public:
   double Cutoff;
   int Width;
   float* Output;
+  const vtkIdType* Pixels = nullptr; // the pixels to compute, by rank; nullptr: all
   vtkSMPThreadLocal<vtkIdType> Samples;
   // Blend modes other than composite.
   int BlendMode = vtkVolumeReferenceIntegrator::COMPOSITE_BLEND;
@@ -99,8 +103,9 @@ public:
   void operator()(vtkIdType begin, vtkIdType end)
   {
     vtkIdType& samples = this->Samples.Local();
-    for (vtkIdType p = begin; p < end; ++p)
+    for (vtkIdType rank = begin; rank < end; ++rank)
     {
+      const vtkIdType p = this->Pixels ? this->Pixels[rank] : rank;
       double rgba[4], extra = std::numeric_limits<double>::quiet_NaN(), spread = 0.0;
       const int i = static_cast<int>(p % this->Width), j = static_cast<int>(p / this->Width);
       switch (this->BlendMode)
@@ -149,13 +154,7 @@ public:
     const int* dims = this->Grid.Dims;
     const vtkIdType sy = dims[0];
     const vtkIdType sz = static_cast<vtkIdType>(dims[0]) * dims[1];
-    const double* values = this->Grid.Values;
-    const vtkIdType base = cell[0] + cell[1] * sy + cell[2] * sz;
-    const vtkIdType offsets[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
-    for (int c = 0; c < 8; ++c)
-    {
-      corner[c] = values[base + offsets[c]];
-    }
+    this->Grid.Values.GetCellCorners(cell[0] + cell[1] * sy + cell[2] * sz, sy, sz, corner);
     return !std::any_of(corner, corner + 8, [](double c) { return std::isnan(c); });
   }
 
@@ -613,12 +612,7 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   VolumeGrid grid;
   std::copy(dims, dims + 3, grid.Dims);
   const vtkIdType n = scalars->GetNumberOfTuples();
-  std::vector<double> values;
-  try
-  {
-    values.resize(n);
-  }
-  catch (const std::bad_alloc&)
+  if (!grid.Values.SetArray(scalars))
   {
     // Not an exception through the pipeline, which would abort the application.
     vtkErrorMacro("Not enough memory for the double-precision copy of the "
@@ -626,11 +620,6 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
       << std::ceil(n * sizeof(double) / 1048576.0) << " MiB); the image is empty.");
     return 1;
   }
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    values[i] = scalars->GetComponent(i, 0);
-  }
-  grid.Values = values.data();
   // World point -> absolute structured index -> 0-based grid index.
   const int* extent = input->GetExtent();
   std::copy(input->GetPhysicalToIndexMatrix()->GetData(),
@@ -710,13 +699,41 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
     caster.PiecesPerRadian = lobes / (4.0 * this->ScalarTolerance);
   }
 
-  // Rows in chunks so progress and abort requests are handled on this thread.
-  const int chunks = std::min(height, 20);
+  // A pixel sample: the others hold NaN in every array.
+  const vtkIdType pixels = static_cast<vtkIdType>(width) * height;
+  std::vector<vtkIdType> sample;
+  if (this->PixelFraction < 1.0)
+  {
+    const vtkIdType count =
+      std::max<vtkIdType>(1, static_cast<vtkIdType>(std::llround(this->PixelFraction * pixels)));
+    sample.resize(static_cast<size_t>(pixels));
+    std::iota(sample.begin(), sample.end(), 0);
+    std::mt19937_64 random(static_cast<std::uint64_t>(this->PixelSeed));
+    for (vtkIdType k = 0; k < count; ++k)
+    {
+      std::uniform_int_distribution<vtkIdType> pick(k, pixels - 1);
+      std::swap(sample[k], sample[pick(random)]);
+    }
+    sample.resize(static_cast<size_t>(count));
+    std::sort(sample.begin(), sample.end());
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    rgba->FillValue(nan);
+    if (iso || projection)
+    {
+      extra->FillValue(nan);
+    }
+    if (iso)
+    {
+      spread->FillValue(nan);
+    }
+    caster.Pixels = sample.data();
+  }
+  const vtkIdType ranks = caster.Pixels ? static_cast<vtkIdType>(sample.size()) : pixels;
+  // In chunks so progress and abort requests are handled on this thread.
+  const int chunks = static_cast<int>(std::min<vtkIdType>(ranks, 20));
   for (int c = 0; c < chunks && !this->GetAbortExecute(); ++c)
   {
-    const vtkIdType rowBegin = static_cast<vtkIdType>(height) * c / chunks;
-    const vtkIdType rowEnd = static_cast<vtkIdType>(height) * (c + 1) / chunks;
-    vtkSMPTools::For(rowBegin * width, rowEnd * width, caster);
+    vtkSMPTools::For(ranks * c / chunks, ranks * (c + 1) / chunks, caster);
     this->UpdateProgress(static_cast<double>(c + 1) / chunks);
   }
   for (vtkIdType s : caster.Samples)
@@ -731,7 +748,7 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeReferenceIntegrator::IntegrateRays(const double* values,
+void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& values,
   const int dims[3],
   const vtkVolumeTransferFunctionSampler* sampler,
   double scalarTolerance,
@@ -770,6 +787,8 @@ void vtkVolumeReferenceIntegrator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ScalarTolerance: " << this->ScalarTolerance << "\n";
   os << indent << "TransmittanceCutoff: " << this->TransmittanceCutoff << "\n";
   os << indent << "IsoPerturbation: " << this->IsoPerturbation << "\n";
+  os << indent << "PixelFraction: " << this->PixelFraction << "\n";
+  os << indent << "PixelSeed: " << this->PixelSeed << "\n";
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
   os << indent << "ShadingModel: " << this->ShadingModel << "\n";
   os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")

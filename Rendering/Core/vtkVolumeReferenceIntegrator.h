@@ -47,6 +47,7 @@
 
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
+#include "vtkVolumeScalarView.h" // For IntegrateRays
 
 class vtkVolumeShadingModel;
 class vtkVolumeTransferFunctionSampler;
@@ -143,6 +144,25 @@ public:
   vtkGetStringMacro(NormalArrayName);
   ///@}
 
+  ///@{
+  /**
+   * Integrate only a random sample of the pixels, this fraction of them (at least one pixel),
+   * drawn with PixelSeed: the other pixels hold NaN in every output array, which
+   * vtkRGBAErrorMetrics and hovr's measures leave out. For measuring large volumes and images,
+   * where every pixel would take too long. Initial value is 1 (every pixel).
+   */
+  vtkSetClampMacro(PixelFraction, double, 0.0, 1.0);
+  vtkGetMacro(PixelFraction, double);
+  ///@}
+
+  ///@{
+  /**
+   * Seed of the pixel sample (PixelFraction). Initial value is 1.
+   */
+  vtkSetMacro(PixelSeed, int);
+  vtkGetMacro(PixelSeed, int);
+  ///@}
+
   /**
    * Number of integration pieces (composite) or cells (other blend modes) evaluated by the
    * last update: the samples per frame.
@@ -161,7 +181,7 @@ public:
    * than dataRange count as that wide); rays stop when their transmittance falls below
    * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools.
    */
-  static void IntegrateRays(const double* values,
+  static void IntegrateRays(const vtkVolumeScalarView& values,
     const int dims[3],
     const vtkVolumeTransferFunctionSampler* sampler,
     double scalarTolerance,
@@ -183,6 +203,8 @@ protected:
   double ScalarTolerance = 1.0 / 64.0;
   double TransmittanceCutoff = 1e-7;
   double IsoPerturbation = 1e-6;
+  double PixelFraction = 1.0;
+  int PixelSeed = 1;
   vtkIdType NumberOfSamples = 0;
   vtkVolumeShadingModel* ShadingModel = nullptr;
   char* NormalArrayName = nullptr;

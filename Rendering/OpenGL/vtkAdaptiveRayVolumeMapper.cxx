@@ -232,13 +232,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
       {
         vtkTextureObject* texture = internal.OracleTexture;
         texture->ReleaseGraphicsResources(context);
-        texture->SetContext(context);
         texture->SetInternalFormat(GL_R32F);
         texture->SetFormat(GL_RED);
         texture->SetDataType(GL_FLOAT);
-        if (!texture->Create3DFromRaw(dims[0], dims[1], dims[2], 1, VTK_FLOAT, values.data()))
+        if (!this->CreateTexture3D(
+              texture, context, dims, 1, VTK_FLOAT, values.data(), "oracle texture", why))
         {
-          why = "the oracle texture could not be created";
         }
         else
         {

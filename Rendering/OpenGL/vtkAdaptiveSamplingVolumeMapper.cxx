@@ -126,29 +126,28 @@ void vtkAdaptiveSamplingVolumeMapper::ReleaseExtensionResources(vtkWindow* windo
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-// A float 3D texture of nx x ny x nz texels of `components` channels, read with texelFetch.
-bool Upload3D(vtkTextureObject* texture,
+bool vtkAdaptiveSamplingVolumeMapper::UploadFloatTexture(vtkTextureObject* texture,
   vtkOpenGLRenderWindow* context,
-  int nx,
-  int ny,
-  int nz,
+  const int size[3],
   int components,
-  float* data)
+  float* data,
+  const char* what)
 {
-  texture->SetContext(context);
   texture->SetInternalFormat(components == 1 ? GL_R32F : GL_RGBA32F);
   texture->SetFormat(components == 1 ? GL_RED : GL_RGBA);
   texture->SetDataType(GL_FLOAT);
+  std::string why;
+  if (!this->CreateTexture3D(texture, context, size, components, VTK_FLOAT, data, what, why))
+  {
+    vtkErrorMacro(<< why << "; nothing is drawn.");
+    return false;
+  }
   texture->SetMinificationFilter(vtkTextureObject::Nearest);
   texture->SetMagnificationFilter(vtkTextureObject::Nearest);
   texture->SetWrapS(vtkTextureObject::ClampToEdge);
   texture->SetWrapT(vtkTextureObject::ClampToEdge);
   texture->SetWrapR(vtkTextureObject::ClampToEdge);
-  return texture->Create3DFromRaw(nx, ny, nz, components, VTK_FLOAT, data);
-}
-
+  return true;
 }
 
 //------------------------------------------------------------------------------
@@ -335,10 +334,10 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
       std::copy(table, table + entries, all.begin() + entries * k);
       internal.UploadedBuilds[k] = internal.Tables[k]->GetBuildCount();
     }
-    if (!Upload3D(internal.TableTexture, context, n, n, block, 4, all.data()))
+    const int size[3] = { n, n, block };
+    if (!this->UploadFloatTexture(
+          internal.TableTexture, context, size, 4, all.data(), "segment-table texture"))
     {
-      vtkErrorMacro("Could not upload the " << block << " segment tables of " << n << " x " << n
-                                            << " entries; nothing is drawn.");
       internal.UploadedBuilds.assign(static_cast<size_t>(block), -1);
       return;
     }
@@ -361,10 +360,9 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
         }
       });
     internal.VolumeArray = nullptr;
-    if (!Upload3D(internal.VolumeTexture, context, dims[0], dims[1], dims[2], 1, values.data()))
+    if (!this->UploadFloatTexture(
+          internal.VolumeTexture, context, dims, 1, values.data(), "volume texture"))
     {
-      vtkErrorMacro("Could not upload the " << dims[0] << " x " << dims[1] << " x " << dims[2]
-                                            << " volume; nothing is drawn.");
       return;
     }
     internal.VolumeArray = scalars;
@@ -382,9 +380,9 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
       values[i] = static_cast<float>(oracle->GetComponent(i, 0));
     }
     internal.OracleArray = nullptr;
-    if (!Upload3D(internal.OracleTexture, context, dims[0], dims[1], dims[2], 1, values.data()))
+    if (!this->UploadFloatTexture(
+          internal.OracleTexture, context, dims, 1, values.data(), "oracle texture"))
     {
-      vtkErrorMacro("Could not upload the oracle volume; nothing is drawn.");
       return;
     }
     internal.OracleArray = oracle;
@@ -394,7 +392,8 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   {
     // The minimum oracle reads nothing; the sampler still needs a texture.
     float one = 1.0f;
-    Upload3D(internal.OracleTexture, context, 1, 1, 1, 1, &one);
+    const int single[3] = { 1, 1, 1 };
+    this->UploadFloatTexture(internal.OracleTexture, context, single, 1, &one, "oracle texture");
   }
 
   // The slice grid in the volume's 0-based continuous grid index: world -> data -> index.

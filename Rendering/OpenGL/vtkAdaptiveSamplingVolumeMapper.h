@@ -181,6 +181,15 @@ protected:
 
   void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
 
+  // A float 3D texture of `components` (1 or 4) channels read with texelFetch, through
+  // CreateTexture3D(); false after an error naming `what`.
+  bool UploadFloatTexture(vtkTextureObject* texture,
+    vtkOpenGLRenderWindow* context,
+    const int size[3],
+    int components,
+    float* data,
+    const char* what);
+
   // The superclass's shader hook is not used: this mapper draws with its own passes.
   FramePlan PrepareExtension(vtkRenderer*, vtkVolume*) override { return DrawNothing; }
   bool ReplaceExtensionShaderValues(std::string&, std::string&, vtkVolume*) override

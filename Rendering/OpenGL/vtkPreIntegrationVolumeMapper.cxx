@@ -382,15 +382,14 @@ bool vtkPreIntegrationVolumeMapper::UploadNormals(vtkRenderer* ren, const int di
   vtkNew<vtkFloatArray> values; // float, whatever the array's type
   values->DeepCopy(normals);
   this->NormalTexture->ReleaseGraphicsResources(context);
-  this->NormalTexture->SetContext(context);
   this->NormalTexture->SetInternalFormat(GL_RGB32F);
   this->NormalTexture->SetFormat(GL_RGB);
   this->NormalTexture->SetDataType(GL_FLOAT);
-  if (!this->NormalTexture->Create3DFromRaw(
-        dims[0], dims[1], dims[2], 3, VTK_FLOAT, values->GetVoidPointer(0)))
+  std::string why;
+  if (!this->CreateTexture3D(this->NormalTexture, context, dims, 3, VTK_FLOAT,
+        values->GetVoidPointer(0), "normal texture", why))
   {
-    vtkErrorMacro("Could not create the " << dims[0] << " x " << dims[1] << " x " << dims[2]
-                                          << " normal texture; not drawing.");
+    vtkErrorMacro(<< why << "; not drawing.");
     return false;
   }
   this->NormalTexture->SetWrapS(vtkTextureObject::ClampToEdge);
@@ -602,14 +601,17 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     this->TableTexture->SetFormat(GL_RGBA);
     this->TableTexture->SetDataType(GL_FLOAT);
     void* data = table->GetTable()->GetVoidPointer(0);
+    const int size3[3] = { n, nb, depth };
+    std::string why;
     const bool created = volume
-      ? this->TableTexture->Create3DFromRaw(n, nb, depth, 4, VTK_FLOAT, data)
+      ? this->CreateTexture3D(this->TableTexture, context, size3, 4, VTK_FLOAT, data, "table texture", why)
       : this->TableTexture->Create2DFromRaw(n, rows, 4, VTK_FLOAT, data);
     if (!created)
     {
       vtkErrorMacro("Could not create the "
         << n << " x " << (volume ? nb : rows) << (volume ? " x " : "")
-        << (volume ? std::to_string(depth) : std::string()) << " table texture.");
+        << (volume ? std::to_string(depth) : std::string()) << " table texture"
+        << (why.empty() ? std::string() : ": " + why) << ".");
       return false;
     }
   }

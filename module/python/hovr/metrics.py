@@ -19,7 +19,8 @@ def compare(image, reference):
     errors = _Errors(metrics)
     metrics.Update()
     errors.close()
-    values = {"rmse": metrics.GetRMSE(), "max_error": metrics.GetMaximumError()}
+    values = {"rmse": metrics.GetRMSE(), "max_error": metrics.GetMaximumError(),
+              "measured_pixels": metrics.GetNumberOfMeasuredPixels()}
     for index, channel in enumerate("rgba"):
         values["rmse_" + channel] = metrics.GetChannelRMSE(index)
         values["max_error_" + channel] = metrics.GetChannelMaximumError(index)
@@ -38,8 +39,10 @@ def compare_blend(image, reference, scene):
     theirs_array = reference.GetPointData().GetArray(name)
     if ours_array is None or theirs_array is None:
         raise HovrError("the %s array is missing from an image to compare" % name)
-    ours = vtk_to_numpy(ours_array).astype(numpy.float64)
-    theirs = vtk_to_numpy(theirs_array).astype(numpy.float64)
+    # Pixels a sampled reference did not compute (NaN RGBA) are left out.
+    measured = numpy.isfinite(vtk_to_numpy(reference.GetPointData().GetArray("RGBA"))).all(axis=1)
+    ours = vtk_to_numpy(ours_array).astype(numpy.float64)[measured]
+    theirs = vtk_to_numpy(theirs_array).astype(numpy.float64)[measured]
     hit, ref_hit = numpy.isfinite(ours), numpy.isfinite(theirs)
     both = hit & ref_hit
     if scene.blend == "iso":
@@ -49,7 +52,7 @@ def compare_blend(image, reference, scene):
         # appears or vanishes, when the isovalue moves by 1e-6 of the data range (its
         # DepthSpread), so no float ray caster can be held to the tolerance there.
         spread_array = reference.GetPointData().GetArray("DepthSpread")
-        grazing = (vtk_to_numpy(spread_array).astype(numpy.float64) > 1e-3 * voxel
+        grazing = (vtk_to_numpy(spread_array).astype(numpy.float64)[measured] > 1e-3 * voxel
                    if spread_array is not None else numpy.zeros_like(hit))
         well_posed = ~grazing[both]
         return {"hits_both": int(both.sum()),

@@ -267,17 +267,25 @@ class FixedPointMethod(Method):
 class ReferenceMethod(Method):
     """vtkVolumeReferenceIntegrator: the ground truth, computed off-screen in double for any
     blend mode, with a step of its own. Shaded composite scenes are lit by the scene's lights
-    (by default a white headlight, as VTK) with the specular term ``specular`` ("lobe", VTK's, or "cone"; None: the scene's)."""
+    (by default a white headlight, as VTK) with the specular term ``specular`` ("lobe", VTK's, or "cone"; None: the scene's).
+    Settings ``pixel_fraction`` and ``pixel_seed``: integrate a random sample of the pixels
+    only (the others NaN, left out of the measures), for large volumes."""
 
     kind = "cpu"
     uses_step = False
     blend = None
+    settings_names = ("pixel_fraction", "pixel_seed")
 
     def __init__(self, name, description, specular=None):
         super().__init__(name, description)
         self.specular = specular
 
     def configure(self, target, scene):
+        fraction = self.overrides.get("pixel_fraction", 1.0)
+        if not (isinstance(fraction, (int, float)) and 0.0 < fraction <= 1.0):
+            raise HovrError("pixel_fraction must be in (0, 1], got %r" % (fraction,))
+        target.SetPixelFraction(float(fraction))
+        target.SetPixelSeed(int(self.overrides.get("pixel_seed", 1)))
         if not scene.prop.GetShade():
             return
         model = core.vtkVolumeShadingModel()

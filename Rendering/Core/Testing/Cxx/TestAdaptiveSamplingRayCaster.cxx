@@ -143,7 +143,7 @@ void FullRate(vtkImageData* volume,
     values[i] = volume->GetPointData()->GetScalars()->GetComponent(static_cast<vtkIdType>(i), 0);
   }
   vtkPreIntegrationRayMarch::Grid grid;
-  grid.Values = values.data();
+  grid.Values.SetValues(values.data(), static_cast<vtkIdType>(values.size()));
   grid.Dims[0] = grid.Dims[1] = grid.Dims[2] = N;
   image.assign(4 * static_cast<size_t>(size) * size, 0.0);
   samples = 0;

@@ -144,7 +144,37 @@ int TestRGBAErrorMetrics(int, char*[])
     check(worst == 0.0,
       "difference image values are exact (largest deviation " + std::to_string(worst) + ")");
   }
+  check(metrics->GetNumberOfMeasuredPixels() == n, "every pixel measured");
   messages.ExpectNone(check, "for valid inputs");
+
+  // Reference pixels with a NaN channel were not computed (a sampled reference): left out of
+  // the metrics, NaN in the difference image. Leaving out the outlier and pixel 0 leaves the
+  // red offset alone.
+  {
+    vtkNew<vtkImageData> sampled;
+    sampled->DeepCopy(reference);
+    vtkDataArray* s = sampled->GetPointData()->GetScalars();
+    s->SetComponent(outlier, 2, std::nan(""));
+    for (int c = 0; c < 4; ++c)
+    {
+      s->SetComponent(0, c, std::nan(""));
+    }
+    vtkNew<vtkRGBAErrorMetrics> partial;
+    partial->SetInputData(test);
+    partial->SetReferenceData(sampled);
+    partial->Update();
+    check(partial->GetNumberOfMeasuredPixels() == n - 2, "two pixels not measured");
+    check.Near(partial->GetChannelRMSE(0), offset, Exact, "sampled: red RMSE is the offset");
+    check(partial->GetChannelRMSE(1) == 0.0 && partial->GetChannelMaximumError(1) == 0.0 &&
+        partial->GetChannelRMSE(3) == 0.0,
+      "sampled: the outlier and pixel 0 are left out");
+    check.Near(partial->GetRMSE(), offset / 2.0, Exact, "sampled: overall RMSE is offset / 2");
+    vtkDataArray* pd = partial->GetOutput()->GetPointData()->GetArray("Difference");
+    check(std::isnan(pd->GetComponent(outlier, 0)) && std::isnan(pd->GetComponent(0, 3)) &&
+        pd->GetComponent(1, 0) == offset,
+      "sampled: the difference is NaN where the reference is not computed");
+  }
+  messages.ExpectNone(check, "for a sampled reference");
 
   // Another array name and type: unsigned char colours, an alpha difference of 10.
   {

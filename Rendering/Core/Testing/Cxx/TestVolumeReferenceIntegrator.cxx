@@ -382,6 +382,49 @@ int TestVolumeReferenceIntegrator(int, char*[])
       "a transfer-function change re-executes the integrator");
     homogeneous->GetScalarOpacity()->AddPoint(5.0, 0.4);
   }
+  // A pixel sample (PixelFraction): exactly that many pixels, each as in the full image, the
+  // others NaN; another seed draws other pixels; the smallest fraction still draws one.
+  {
+    check(integrator->GetPixelFraction() == 1.0 && integrator->GetPixelSeed() == 1,
+      "every pixel, seed 1, by default");
+    const std::vector<double> full = Pixels(integrator);
+    auto sampled = [&](double fraction, int seed, int& computed, int& cells)
+    {
+      integrator->SetPixelFraction(fraction);
+      integrator->SetPixelSeed(seed);
+      const std::vector<double> image = Pixels(integrator);
+      computed = 0;
+      cells = static_cast<int>(integrator->GetNumberOfSamples());
+      std::vector<int> which;
+      bool same = image.size() == full.size();
+      for (size_t p = 0; same && p < image.size() / 4; ++p)
+      {
+        const bool nan = std::isnan(image[4 * p]);
+        for (int k = 0; k < 4; ++k)
+        {
+          same = same && (nan ? std::isnan(image[4 * p + k]) : image[4 * p + k] == full[4 * p + k]);
+        }
+        computed += nan ? 0 : 1;
+      }
+      return same;
+    };
+    int computed = 0, cells = 0, other = 0, otherCells = 0;
+    check(sampled(0.25, 7, computed, cells) && computed == 400,
+      "PixelFraction 0.25: 400 of the 1600 pixels, each as in the full image, NaN elsewhere");
+    check(cells % 4 == 0 && cells <= 4 * 400, "the samples count the sampled pixels only");
+    const std::vector<double> first = Pixels(integrator);
+    integrator->SetPixelSeed(8);
+    const std::vector<double> second = Pixels(integrator);
+    int differ = 0;
+    for (size_t p = 0; p < first.size() / 4; ++p)
+    {
+      differ += std::isnan(first[4 * p]) != std::isnan(second[4 * p]) ? 1 : 0;
+    }
+    check(differ > 0, "another seed samples other pixels");
+    check(sampled(0.0, 7, other, otherCells) && other == 1, "PixelFraction 0: one pixel");
+    integrator->SetPixelFraction(1.0);
+    integrator->SetPixelSeed(1);
+  }
 
   //----------------------------------------------------------------------------
   // 2. Oblique rays through the same homogeneous volume: 1 - exp(-tau chord) with the chord
