@@ -3,7 +3,7 @@
 
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
-#include "vtkFloatArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkGridRayTraversal.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
@@ -225,7 +225,7 @@ vtkIdType vtkCameraRayModel::CountCellVisits(vtkImageData* volume) const
 //------------------------------------------------------------------------------
 void vtkCameraRayModel::ComputeDepths(vtkImageData* volume,
   vtkDataArray* positions,
-  vtkFloatArray* depth) const
+  vtkDoubleArray* depth) const
 {
   const vtkIdType n = static_cast<vtkIdType>(this->ImageSize[0]) * this->ImageSize[1];
   if (!volume || !positions || !depth || positions->GetNumberOfComponents() != 4 ||
@@ -245,7 +245,7 @@ void vtkCameraRayModel::ComputeDepths(vtkImageData* volume,
     positions->GetTuple(p, q);
     if (!(q[3] > 0.0))
     {
-      depth->SetValue(p, std::numeric_limits<float>::quiet_NaN());
+      depth->SetValue(p, std::numeric_limits<double>::quiet_NaN());
       continue;
     }
     double origin[3], direction[3], world[3];
@@ -261,7 +261,7 @@ void vtkCameraRayModel::ComputeDepths(vtkImageData* volume,
         m[4 * r] * index[0] + m[4 * r + 1] * index[1] + m[4 * r + 2] * index[2] + m[4 * r + 3];
       d += (world[r] - origin[r]) * direction[r];
     }
-    depth->SetValue(p, static_cast<float>(d));
+    depth->SetValue(p, d);
   }
 }
 

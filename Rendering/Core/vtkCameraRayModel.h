@@ -23,7 +23,7 @@
 
 class vtkCamera;
 class vtkDataArray;
-class vtkFloatArray;
+class vtkDoubleArray;
 class vtkImageData;
 class vtkMatrix4x4;
 
@@ -88,7 +88,7 @@ public:
    * ray, else NaN. positions has W x H tuples of 4 components; depth is resized to W x H.
    * Requires Prepare().
    */
-  void ComputeDepths(vtkImageData* volume, vtkDataArray* positions, vtkFloatArray* depth) const;
+  void ComputeDepths(vtkImageData* volume, vtkDataArray* positions, vtkDoubleArray* depth) const;
 
   /**
    * The pixel rays in the continuous grid index of a volume (0-based from its extent's first

@@ -5,6 +5,7 @@
 #include "vtkCameraRayModel.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
 #include "vtkGridRayTraversal.h"
@@ -71,9 +72,9 @@ public:
   std::vector<double> IsoValues;
   bool Shade = false;
   double Ambient = 0, Diffuse = 1, Specular = 0, SpecularPower = 1;
-  float* Extra = nullptr;  // Depth, MaxScalar or MinScalar
-  double IsoShift = 0.0;   // isosurface: the isovalue perturbation of DepthSpread
-  float* Spread = nullptr; // isosurface: DepthSpread
+  double* Extra = nullptr;  // Depth, MaxScalar or MinScalar
+  double IsoShift = 0.0;    // isosurface: the isovalue perturbation of DepthSpread
+  double* Spread = nullptr; // isosurface: DepthSpread
   // Composite shading: the lighting (nullptr: unshaded) and the pieces per radian of normal
   // turn that its narrowest lobe needs.
   const vtkVolumeShadingModel* Shading = nullptr;
@@ -112,7 +113,7 @@ public:
       {
         case vtkVolumeReferenceIntegrator::ISOSURFACE_BLEND:
           samples += this->CastIsoSurface(i, j, rgba, extra, spread);
-          this->Spread[p] = static_cast<float>(spread);
+          this->Spread[p] = spread;
           break;
         case vtkVolumeReferenceIntegrator::MAXIMUM_INTENSITY_BLEND:
         case vtkVolumeReferenceIntegrator::MINIMUM_INTENSITY_BLEND:
@@ -124,7 +125,7 @@ public:
       std::copy(rgba, rgba + 4, this->Output + 4 * p);
       if (this->Extra)
       {
-        this->Extra[p] = static_cast<float>(extra);
+        this->Extra[p] = extra;
       }
     }
   }
@@ -576,13 +577,13 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
   {
     return 1;
   }
-  vtkNew<vtkFloatArray> extra;
+  vtkNew<vtkDoubleArray> extra;
   if (iso || projection)
   {
     extra->SetName(
       iso ? "Depth" : (this->BlendMode == MAXIMUM_INTENSITY_BLEND ? "MaxScalar" : "MinScalar"));
     extra->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
-    extra->FillValue(std::numeric_limits<float>::quiet_NaN());
+    extra->FillValue(std::numeric_limits<double>::quiet_NaN());
     output->GetPointData()->AddArray(extra);
   }
   else if (this->BlendMode != COMPOSITE_BLEND)
@@ -592,7 +593,7 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
                                                "minimum intensity (2) or isosurface (5).");
     return 1;
   }
-  vtkNew<vtkFloatArray> spread;
+  vtkNew<vtkDoubleArray> spread;
   if (iso)
   {
     spread->SetName("DepthSpread");
@@ -716,15 +717,14 @@ int vtkVolumeReferenceIntegrator::RequestData(vtkInformation*,
     }
     sample.resize(static_cast<size_t>(count));
     std::sort(sample.begin(), sample.end());
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    rgba->FillValue(nan);
+    rgba->FillValue(std::numeric_limits<float>::quiet_NaN());
     if (iso || projection)
     {
-      extra->FillValue(nan);
+      extra->FillValue(std::numeric_limits<double>::quiet_NaN());
     }
     if (iso)
     {
-      spread->FillValue(nan);
+      spread->FillValue(std::numeric_limits<double>::quiet_NaN());
     }
     caster.Pixels = sample.data();
   }

@@ -26,15 +26,15 @@
  * - ISOSURFACE: the first point of the ray where the trilinear field equals one of the
  *   volume property's isosurface values (vtkVolumeProperty::GetIsoSurfaceValues()), found
  *   with vtkTrilinearRayProfile::FindFirstCrossing in the first cell whose range holds a value.
- *   Point data "Depth" (float) is the world distance from the ray's origin (NaN on a miss);
- *   "DepthSpread" (float) the largest change of that depth, in world units, when every
+ *   Point data "Depth" (double) is the world distance from the ray's origin (NaN on a miss);
+ *   "DepthSpread" (double) the largest change of that depth, in world units, when every
  *   isovalue moves by +-IsoPerturbation of the data range (infinite where the ray would then
  *   miss or start to hit: grazing and touching rays; 0 on other misses);
  *   "RGBA" is the opaque surface: the colour transfer function at the isovalue, shaded when
  *   the property's Shade is on with a headlight along the ray (ambient + diffuse |n.v| +
  *   specular |n.v|^power, two-sided, n the exact gradient of the trilinear field).
  * - MAXIMUM_INTENSITY / MINIMUM_INTENSITY: the exact extremum of the trilinear field along the
- *   ray (cell end points and interior extrema). "MaxScalar" / "MinScalar" (float, data units;
+ *   ray (cell end points and interior extrema). "MaxScalar" / "MinScalar" (double, data units;
  *   NaN where the ray misses the volume); "RGBA" as VTK's projections: colour and opacity
  *   transfer functions at the extremum, opacity taken as alpha.
  *

@@ -8,13 +8,20 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
+#include "vtkVolumeBrickLayout.h"
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
@@ -47,14 +54,19 @@ bool IsAnalyticBlend(int blend)
 // gets an empty range (+inf, -inf), and a block with some NaN the whole line (-inf, +inf). Widened
 // by a few float roundings, because the texture's own conversion of integers to normalised floats
 // may round the other way.
+// The points of a brick are points[0..1] x points[2..3] x points[4..5] of a volume of dims
+// points; blocks count from the brick's first point.
 void ComputeBlockRanges(vtkDataArray* scalars,
-  const int dims[3],
+  const int volumeDims[3],
+  const int points[6],
   int size,
   double scale,
   double shift,
   const int blocks[3],
   std::vector<float>& ranges)
 {
+  const int dims[3] = { points[1] - points[0] + 1, points[3] - points[2] + 1,
+    points[5] - points[4] + 1 };
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> lo(static_cast<size_t>(blocks[0]) * blocks[1] * blocks[2], inf);
   std::vector<double> hi(lo.size(), -inf);
@@ -66,10 +78,12 @@ void ComputeBlockRanges(vtkDataArray* scalars,
     for (int j = 0; j < dims[1]; ++j)
     {
       const int bj0 = std::min(j / size, blocks[1] - 1), bj1 = std::max((j - 1) / size, 0);
+      const vtkIdType row = points[0] +
+        static_cast<vtkIdType>(volumeDims[0]) *
+          (points[2] + j + static_cast<vtkIdType>(volumeDims[1]) * (points[4] + k));
       for (int i = 0; i < dims[0]; ++i)
       {
-        const double value = scalars->GetComponent(
-          i + static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k), 0);
+        const double value = scalars->GetComponent(row + i, 0);
         const bool nan = std::isnan(value);
         const double raw = (value - shift) / scale;
         const int bi0 = std::min(i / size, blocks[0] - 1), bi1 = std::max((i - 1) / size, 0);
@@ -110,19 +124,22 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   }
 }
 
-// The 4 corners in x and y of each point of a slice, x fastest (see UpdateCornerTexture).
+// The 4 corners in x and y of each point of a brick's slices, x fastest (see
+// UpdateBrickTextures).
 template <typename T, typename Convert>
-void PackCorners(vtkDataArray* scalars, const int dims[3], Convert convert, std::vector<T>& out)
+void PackCorners(vtkDataArray* scalars, const int volumeDims[3], const int points[6],
+  Convert convert, std::vector<T>& out)
 {
-  const vtkIdType nx = dims[0], ny = dims[1];
-  out.resize(static_cast<size_t>(nx - 1) * (ny - 1) * dims[2] * 4);
+  const vtkIdType nx = volumeDims[0], ny = volumeDims[1];
+  const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
+  out.resize(static_cast<size_t>(w - 1) * (h - 1) * (points[5] - points[4] + 1) * 4);
   T* texel = out.data();
-  for (int k = 0; k < dims[2]; ++k)
+  for (int k = points[4]; k <= points[5]; ++k)
   {
-    for (vtkIdType j = 0; j + 1 < ny; ++j)
+    for (vtkIdType j = points[2]; j < points[3]; ++j)
     {
       const vtkIdType row = nx * (j + ny * k);
-      for (vtkIdType i = 0; i + 1 < nx; ++i, texel += 4)
+      for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
       {
         texel[0] = convert(scalars->GetComponent(row + i, 0));
         texel[1] = convert(scalars->GetComponent(row + i + 1, 0));
@@ -136,18 +153,23 @@ void PackCorners(vtkDataArray* scalars, const int dims[3], Convert convert, std:
 
 //------------------------------------------------------------------------------
 vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
-  : BlockTexture(vtkTextureObject::New())
-  , RayModel(vtkCameraRayModel::New())
-  , CornerTexture(vtkTextureObject::New())
+  : RayModel(vtkCameraRayModel::New())
 {
+  this->ExtremeTexture = vtkTextureObject::New();
+  this->ColourTexture = vtkTextureObject::New();
+  this->Targets = vtkOpenGLFramebufferObject::New();
+  // Float positions in a brick's grid index round at the brick's scale: 256 points keep the
+  // hit within 1e-4 voxel at any volume size.
+  this->MaximumBrickSize = 256;
 }
 
 //------------------------------------------------------------------------------
 vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
 {
-  this->BlockTexture->Delete();
   this->RayModel->Delete();
-  this->CornerTexture->Delete();
+  this->ExtremeTexture->Delete();
+  this->ColourTexture->Delete();
+  this->Targets->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -183,172 +205,207 @@ void vtkAnalyticVolumeMapper::UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol)
   {
     std::copy(frame[v], frame[v] + 3, this->RayFrame[v]);
   }
-  this->RayPixelCentre[0] = 0.5f * size[0];
-  this->RayPixelCentre[1] = 0.5f * size[1];
+  this->RayPixelCentre[0] = 0.5 * size[0];
+  this->RayPixelCentre[1] = 0.5 * size[1];
   this->RayPerspective = perspective ? 1 : 0;
   this->RayFrameInUse = 1;
 }
 
 //------------------------------------------------------------------------------
-bool vtkAnalyticVolumeMapper::UpdateBlockRanges(vtkRenderer* ren,
+bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
   vtkDataArray* scalars,
   const int dims[3],
   double scale,
   double shift)
 {
-  if (this->BlockScalars == scalars && this->BlockBuiltSize == this->BlockSize &&
-    this->BlockBuildTime > scalars->GetMTime() && this->BlockTexture->GetHandle())
-  {
-    return true;
-  }
-  int blocks[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    blocks[a] = (dims[a] - 2) / this->BlockSize + 1; // cells dims-1, rounded up
-  }
-  std::vector<float> ranges;
-  ComputeBlockRanges(scalars, dims, this->BlockSize, scale, shift, blocks, ranges);
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  this->BlockTexture->ReleaseGraphicsResources(context);
-  this->BlockTexture->SetInternalFormat(GL_RG32F);
-  this->BlockTexture->SetFormat(GL_RG);
-  this->BlockTexture->SetDataType(GL_FLOAT);
-  std::string why;
-  if (!this->CreateTexture3D(
-        this->BlockTexture, context, blocks, 2, VTK_FLOAT, ranges.data(), "block-range texture", why))
+  vtkVolumeBrickLayout* layout = this->GetBricks()->GetLayout();
+  const int bricks = this->GetBricks()->GetNumberOfBricks();
+  std::ostringstream key;
+  key << scalars << " " << scalars->GetMTime() << " " << this->GetBricks()->GetUploadCount() << " "
+      << context;
+  const std::string base = key.str();
+  key << " " << this->BlockSize;
+  if (this->BlockSize > 0 && key.str() != this->BlockKey)
   {
-    vtkErrorMacro(<< why << "; not drawing.");
+    this->BlockKey.clear();
     this->BlockTextureMemorySize = 0;
-    return false;
+    this->BlockTextures.clear();
+    for (int b = 0; b < bricks; ++b)
+    {
+      int points[6], blocks[3];
+      layout->GetBrickPoints(b, points);
+      for (int a = 0; a < 3; ++a)
+      {
+        // cells points - 1, rounded up
+        blocks[a] = (points[2 * a + 1] - points[2 * a] - 1) / this->BlockSize + 1;
+      }
+      std::vector<float> ranges;
+      ComputeBlockRanges(scalars, dims, points, this->BlockSize, scale, shift, blocks, ranges);
+      vtkNew<vtkTextureObject> texture;
+      texture->SetInternalFormat(GL_RG32F);
+      texture->SetFormat(GL_RG);
+      texture->SetDataType(GL_FLOAT);
+      std::string why;
+      if (!this->CreateTexture3D(
+            texture, context, blocks, 2, VTK_FLOAT, ranges.data(), "block-range texture", why))
+      {
+        vtkErrorMacro(<< why << "; not drawing.");
+        this->BlockTextures.clear();
+        this->BlockTextureMemorySize = 0;
+        return false;
+      }
+      texture->SetMinificationFilter(vtkTextureObject::Nearest);
+      texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+      this->BlockTextures.emplace_back(texture);
+      this->BlockTextureMemorySize += static_cast<vtkIdType>(ranges.size()) * sizeof(float);
+    }
+    this->BlockKey = key.str();
   }
-  this->BlockTexture->SetMinificationFilter(vtkTextureObject::Nearest);
-  this->BlockTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
 
-  this->BlockTextureMemorySize = static_cast<vtkIdType>(ranges.size()) * sizeof(float);
-  this->BlockScalars = scalars;
-  this->BlockBuiltSize = this->BlockSize;
-  this->BlockBuildTime.Modified();
-  return true;
-}
-
-//------------------------------------------------------------------------------
-bool vtkAnalyticVolumeMapper::UpdateCornerTexture(vtkRenderer* ren,
-  vtkDataArray* scalars,
-  const int dims[3],
-  double scale,
-  double shift)
-{
-  if (this->CornerScalars == scalars && this->CornerBuildTime > scalars->GetMTime() &&
-    this->CornerTexture->GetHandle())
+  if (!this->PackedThisFrame || base == this->CornerKey)
   {
     return true;
   }
-  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  // Texel (i, j, k), i < nx - 1, j < ny - 1, holds the points (i, j), (i + 1, j), (i, j + 1)
-  // and (i + 1, j + 1) of slice k: a cell's 8 corners are 2 fetches instead of 8. 8- and
-  // 16-bit unsigned data keep their type (the normalised values equal those of VTK's own
-  // texture); other types are stored as the float raw values of GetTextureValueMapping.
+  // Texel (i, j, k), i < nx - 1, j < ny - 1, of a brick of nx x ny x nz points holds its points
+  // (i, j), (i + 1, j), (i, j + 1) and (i + 1, j + 1) of slice k: a cell's 8 corners are 2
+  // fetches instead of 8. 8- and 16-bit unsigned data keep their type (the normalised values
+  // equal those of the brick textures); other types are stored as the float raw values.
   const int type = scalars->GetDataType();
-  const size_t texels = static_cast<size_t>(dims[0] - 1) * (dims[1] - 1) * dims[2];
-  this->CornerTexture->ReleaseGraphicsResources(context);
-  this->CornerTexture->SetFormat(GL_RGBA);
-  bool created = false;
-  // 4 values per point: in the data's type for 8- and 16-bit unsigned data, else float.
-  const size_t bytes = texels * 4 *
-    (type == VTK_UNSIGNED_CHAR       ? 1
-        : type == VTK_UNSIGNED_SHORT ? 2
-                                     : 4);
+  this->CornerKey.clear();
+  this->CornerTextures.clear();
+  this->CornerTextureMemorySize = 0;
   std::string failure = "the texture could not be created";
-  try
+  bool created = true;
+  for (int b = 0; b < bricks && created; ++b)
   {
-    // One texel type per scalar type: its conversion, GL internal format and data type.
-    auto upload = [&](auto convert, int internalFormat, int glType, int vtkType)
+    int points[6];
+    layout->GetBrickPoints(b, points);
+    const int size[3] = { points[1] - points[0], points[3] - points[2], points[5] - points[4] + 1 };
+    vtkNew<vtkTextureObject> texture;
+    texture->SetFormat(GL_RGBA);
+    try
     {
-      std::vector<decltype(convert(0.0))> packed;
-      PackCorners(scalars, dims, convert, packed);
-      this->CornerTexture->SetInternalFormat(internalFormat);
-      this->CornerTexture->SetDataType(glType);
-      const int size[3] = { dims[0] - 1, dims[1] - 1, dims[2] };
-      return this->CreateTexture3D(this->CornerTexture, context, size, 4, vtkType,
-        packed.data(), "packed-corner texture", failure);
-    };
-    if (type == VTK_UNSIGNED_CHAR)
-    {
-      created = upload([](double v) { return static_cast<unsigned char>(v); },
-        GL_RGBA8,
-        GL_UNSIGNED_BYTE,
-        VTK_UNSIGNED_CHAR);
+      // One texel type per scalar type: its conversion, GL internal format and data type.
+      auto upload = [&](auto convert, int internalFormat, int glType, int vtkType)
+      {
+        std::vector<decltype(convert(0.0))> packed;
+        PackCorners(scalars, dims, points, convert, packed);
+        texture->SetInternalFormat(internalFormat);
+        texture->SetDataType(glType);
+        return this->CreateTexture3D(
+          texture, context, size, 4, vtkType, packed.data(), "packed-corner texture", failure);
+      };
+      if (type == VTK_UNSIGNED_CHAR)
+      {
+        created = upload([](double v) { return static_cast<unsigned char>(v); },
+          GL_RGBA8,
+          GL_UNSIGNED_BYTE,
+          VTK_UNSIGNED_CHAR);
+      }
+      else if (type == VTK_UNSIGNED_SHORT)
+      {
+        created = upload([](double v) { return static_cast<unsigned short>(v); },
+          GL_RGBA16,
+          GL_UNSIGNED_SHORT,
+          VTK_UNSIGNED_SHORT);
+      }
+      else
+      {
+        created = upload([=](double v) { return static_cast<float>((v - shift) / scale); },
+          GL_RGBA32F,
+          GL_FLOAT,
+          VTK_FLOAT);
+      }
     }
-    else if (type == VTK_UNSIGNED_SHORT)
+    catch (const std::bad_alloc&)
     {
-      created = upload([](double v) { return static_cast<unsigned short>(v); },
-        GL_RGBA16,
-        GL_UNSIGNED_SHORT,
-        VTK_UNSIGNED_SHORT);
+      failure = "not enough memory";
+      created = false;
     }
-    else
+    if (created)
     {
-      created = upload([=](double v) { return static_cast<float>((v - shift) / scale); },
-        GL_RGBA32F,
-        GL_FLOAT,
-        VTK_FLOAT);
+      texture->SetMinificationFilter(vtkTextureObject::Nearest);
+      texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+      this->CornerTextures.emplace_back(texture);
+      this->CornerTextureMemorySize += static_cast<vtkIdType>(size[0]) * size[1] * size[2] * 4 *
+        (type == VTK_UNSIGNED_CHAR ? 1 : type == VTK_UNSIGNED_SHORT ? 2 : 4);
     }
-  }
-  catch (const std::bad_alloc&)
-  {
-    failure = "not enough memory";
   }
   if (!created)
   {
     vtkWarningMacro("Could not make the packed copy of the volume's corners ("
-      << dims[0] - 1 << " x " << dims[1] - 1 << " x " << dims[2] << " texels, "
-      << std::ceil(bytes / 1048576.0) << " MiB: " << failure
-      << "); reading each cell's 8 corners from the volume texture instead (same image).");
-    this->CornerTexture->ReleaseGraphicsResources(context);
+      << failure
+      << "); reading each cell's 8 corners from the volume's bricks instead (same image).");
+    this->CornerTextures.clear();
     this->CornerTextureMemorySize = 0;
     return false;
   }
-  this->CornerTexture->SetMinificationFilter(vtkTextureObject::Nearest);
-  this->CornerTexture->SetMagnificationFilter(vtkTextureObject::Nearest);
-  this->CornerTextureMemorySize = static_cast<vtkIdType>(bytes);
-  this->CornerScalars = scalars;
-  this->CornerBuildTime.Modified();
+  this->CornerKey = base;
   return true;
+}
+
+//------------------------------------------------------------------------------
+vtkTextureObject* vtkAnalyticVolumeMapper::GetCurrentBrickTexture(
+  std::vector<vtkSmartPointer<vtkTextureObject>>& textures)
+{
+  const int b = this->GetCurrentBrick();
+  return b < static_cast<int>(textures.size()) ? textures[b].Get() : nullptr;
 }
 
 //------------------------------------------------------------------------------
 void vtkAnalyticVolumeMapper::ActivateExtensionTextures()
 {
-  if (this->Method == ANALYTIC && this->BlockSize > 0)
+  if (this->Method != ANALYTIC)
   {
-    this->BlockTexture->Activate();
+    return;
+  }
+  if (this->BlockSize > 0)
+  {
+    this->GetCurrentBrickTexture(this->BlockTextures)->Activate();
   }
   if (this->PackedThisFrame)
   {
-    this->CornerTexture->Activate();
+    this->GetCurrentBrickTexture(this->CornerTextures)->Activate();
   }
 }
 
 //------------------------------------------------------------------------------
 void vtkAnalyticVolumeMapper::DeactivateExtensionTextures()
 {
-  if (this->Method == ANALYTIC && this->BlockSize > 0)
+  if (this->Method != ANALYTIC)
   {
-    this->BlockTexture->Deactivate();
+    return;
+  }
+  if (this->BlockSize > 0)
+  {
+    this->GetCurrentBrickTexture(this->BlockTextures)->Deactivate();
   }
   if (this->PackedThisFrame)
   {
-    this->CornerTexture->Deactivate();
+    this->GetCurrentBrickTexture(this->CornerTextures)->Deactivate();
   }
 }
 
 //------------------------------------------------------------------------------
 void vtkAnalyticVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
-  this->BlockTexture->ReleaseGraphicsResources(window);
-  this->CornerTexture->ReleaseGraphicsResources(window);
-  this->BlockScalars = nullptr;
-  this->CornerScalars = nullptr;
+  for (auto& texture : this->BlockTextures)
+  {
+    texture->ReleaseGraphicsResources(window);
+  }
+  for (auto& texture : this->CornerTextures)
+  {
+    texture->ReleaseGraphicsResources(window);
+  }
+  this->BlockTextures.clear();
+  this->CornerTextures.clear();
+  this->BlockKey.clear();
+  this->CornerKey.clear();
+  this->ExtremeTexture->ReleaseGraphicsResources(window);
+  this->ColourTexture->ReleaseGraphicsResources(window);
+  this->Targets->ReleaseGraphicsResources(window);
+  this->ExtremeCopy.reset();
   this->BlockTextureMemorySize = 0;
   this->CornerTextureMemorySize = 0;
 }
@@ -416,6 +473,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   vtkVolume* vol)
 {
   this->PackedThisFrame = false;
+  this->Context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   int dims[3], cellFlag;
   FramePlan plan = DrawWithExtension;
   vtkDataArray* scalars = this->GetFrameScalars(dims, cellFlag, plan);
@@ -482,8 +540,23 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   this->ClearFallbackWarning();
 
   vtkVolumeProperty* property = vol->GetProperty();
-  double scale, shift;
-  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(scalars, scale, shift);
+  // Raw values: those of the brick textures (analytic) or of VTK's texture (stock); the
+  // transfer-function tables are VTK's, looked up from its own raw values.
+  double scale, shift, vtkScale, vtkShift;
+  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(scalars, vtkScale, vtkShift);
+  scale = vtkScale;
+  shift = vtkShift;
+  if (this->Method == ANALYTIC)
+  {
+    // Each cell's corners are read exactly (texelFetch): the data's own precision suffices.
+    if (!this->PrepareBricks(ren, scalars, dims, 0, false))
+    {
+      return DrawNothing;
+    }
+    this->GetBricks()->GetValueMapping(scale, shift);
+  }
+  this->RawToVtkRaw[0] = static_cast<float>(scale / vtkScale);
+  this->RawToVtkRaw[1] = static_cast<float>((shift - vtkShift) / vtkScale);
   this->RawToData[0] = static_cast<float>(scale);
   this->RawToData[1] = static_cast<float>(shift);
   this->RawRange[0] = static_cast<float>((range[0] - shift) / scale);
@@ -544,28 +617,40 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     most > 0.0 ? this->ClearEmptyWarning() : this->WarnEmptyOnce(message.str());
   }
 
-  if (this->Method == ANALYTIC && this->BlockSize > 0 &&
-    !this->UpdateBlockRanges(ren, scalars, dims, scale, shift))
-  {
-    return DrawNothing;
-  }
-  // Packed corners unless their copy could not be made for these scalars (tried again when
-  // they change): the cells are then read from VTK's texture, with the same image.
+  // Packed corners unless their copy would exceed the limit or could not be made for these
+  // scalars (tried again when they change): the cells are then read from the bricks, with the
+  // same image.
   const int valueBytes = scalars->GetDataType() == VTK_UNSIGNED_CHAR ? 1
     : scalars->GetDataType() == VTK_UNSIGNED_SHORT                    ? 2
                                                                       : 4;
   const double packedBytes = 4.0 * valueBytes * (dims[0] - 1) * (dims[1] - 1.0) * dims[2];
+  // Each brick's copy is one texture, within MaximumTextureBytes too.
+  double largestBrick = 0.0;
+  for (int b = 0; this->Method == ANALYTIC && b < this->GetNumberOfBricks(); ++b)
+  {
+    int size[3];
+    this->GetBricks()->GetLayout()->GetBrickSize(b, size);
+    largestBrick =
+      std::max(largestBrick, 4.0 * valueBytes * (size[0] - 1) * (size[1] - 1.0) * size[2]);
+  }
   this->PackedThisFrame = this->Method == ANALYTIC && this->CornerPacking &&
     packedBytes <= this->CornerPackingMemoryLimit &&
+    largestBrick <= static_cast<double>(this->MaximumTextureBytes) &&
     !(scalars == this->UnpackableScalars && scalars->GetMTime() == this->UnpackableTime);
-  if (this->PackedThisFrame && !this->UpdateCornerTexture(ren, scalars, dims, scale, shift))
+  if (this->Method == ANALYTIC && !this->UpdateBrickTextures(ren, scalars, dims, scale, shift))
   {
+    if (this->BlockSize > 0 && this->BlockTextures.empty())
+    {
+      return DrawNothing;
+    }
     this->UnpackableScalars = scalars;
     this->UnpackableTime = scalars->GetMTime();
     this->PackedThisFrame = false;
   }
   if (!this->PackedThisFrame)
   {
+    this->CornerTextures.clear();
+    this->CornerKey.clear();
     this->CornerTextureMemorySize = 0;
   }
   if (this->Method == ANALYTIC)
@@ -574,11 +659,15 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   }
   if (this->Method != ANALYTIC || this->BlockSize == 0)
   {
+    this->BlockTextures.clear();
+    this->BlockKey.clear();
     this->BlockTextureMemorySize = 0;
   }
 
+  this->Rounds = this->Method == ANALYTIC &&
+    this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND && this->GetNumberOfBricks() > 1;
   std::ostringstream key;
-  key << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
+  key << this->Rounds << " " << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
       << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity << " "
       << this->PackedThisFrame;
   if (key.str() != this->ShaderKey)
@@ -602,7 +691,9 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
            << "#define HOVR_SHADE " << (vol->GetProperty()->GetShade(0) ? 1 : 0) << "\n"
            << "#define HOVR_OUTPUT " << this->OutputQuantity << "\n"
            << "#define HOVR_BLOCK " << this->BlockSize << "\n"
-           << "#define HOVR_PACKED " << (this->PackedThisFrame ? 1 : 0) << "\n";
+           << "#define HOVR_PACKED " << (this->PackedThisFrame ? 1 : 0) << "\n"
+           << "#define HOVR_ROUNDS " << (this->Rounds ? 1 : 0) << "\n"
+           << (this->Method == ANALYTIC ? "#define HOVR_BRICKED 1\n" : "");
   bool ok = true;
   if (this->Method == ANALYTIC)
   {
@@ -656,9 +747,16 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   }
   if (this->OutputQuantity != OUTPUT_COLOR)
   {
+    // Misses write nothing: bricks drawn later (nearer) must not erase a farther hit.
     ok = ok &&
-      Self::ReplaceShaderTag(
-        fragmentShader, "//VTK::DepthPass::Exit", "gl_FragData[0] = hovr_output;", Self::AfterTag);
+      Self::ReplaceShaderTag(fragmentShader,
+        "//VTK::DepthPass::Exit",
+        "if (hovr_output.w == 0.0)\n"
+        "  {\n"
+        "    discard;\n"
+        "  }\n"
+        "  gl_FragData[0] = hovr_output;",
+        Self::AfterTag);
   }
   if (!ok)
   {
@@ -676,34 +774,232 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   {
     return;
   }
+  program->SetUniformi("hovr_volume", this->GetBrickTexture()->GetTextureUnit());
+  program->SetUniformf("hovr_brick", static_cast<float>(this->GetCurrentBrick()));
+  program->SetUniform2f("hovr_rawToVtkRaw", this->RawToVtkRaw);
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  double spacing[3];
+  input->GetSpacing(spacing);
+  program->SetUniform3f("hovr_spacing", spacing);
   program->SetUniformi("hovr_rayFrameInUse", this->RayFrameInUse);
   if (this->RayFrameInUse)
   {
-    program->SetUniform3f("hovr_rayCentre", this->RayFrame[0]);
-    program->SetUniform3f("hovr_rayDx", this->RayFrame[1]);
-    program->SetUniform3f("hovr_rayDy", this->RayFrame[2]);
-    program->SetUniform3f("hovr_rayEye", this->RayFrame[3]);
-    program->SetUniform3f("hovr_rayForward", this->RayFrame[4]);
-    program->SetUniform2f("hovr_rayPixelCentre", this->RayPixelCentre);
+    // The brick's own frame: grid index from its first point, and the pixel nearest to its
+    // centre as the frame's centre, so that float positions stay at the brick's scale.
+    int points[6];
+    this->GetBrickPoints(points);
+    const double(*f)[3] = this->RayFrame;
+    double x[3], rhs[3], m[3][3];
+    for (int a = 0; a < 3; ++a)
+    {
+      x[a] = 0.5 * (points[2 * a] + points[2 * a + 1]);
+      // Solve p.x dx + p.y dy - l w = r for the pixel offset p of the ray through x.
+      const double w = this->RayPerspective ? x[a] - f[3][a] : f[4][a];
+      m[a][0] = f[1][a];
+      m[a][1] = f[2][a];
+      m[a][2] = -w;
+      rhs[a] = (this->RayPerspective ? f[3][a] : x[a]) - f[0][a];
+    }
+    double pixel[2] = { 0.0, 0.0 };
+    const double det = vtkMath::Determinant3x3(m);
+    if (std::abs(det) > 0.0)
+    {
+      for (int c = 0; c < 2; ++c)
+      {
+        double mc[3][3];
+        for (int a = 0; a < 3; ++a)
+        {
+          std::copy(m[a], m[a] + 3, mc[a]);
+          mc[a][c] = rhs[a];
+        }
+        const double value = vtkMath::Determinant3x3(mc) / det;
+        pixel[c] = std::isfinite(value) ? std::round(std::max(-1e6, std::min(value, 1e6))) : 0.0;
+      }
+    }
+    float centre[3], eye[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      centre[a] =
+        static_cast<float>(f[0][a] + pixel[0] * f[1][a] + pixel[1] * f[2][a] - points[2 * a]);
+      eye[a] = static_cast<float>(f[3][a] - points[2 * a]);
+    }
+    const float pixelCentre[2] = { static_cast<float>(this->RayPixelCentre[0] + pixel[0]),
+      static_cast<float>(this->RayPixelCentre[1] + pixel[1]) };
+    float dx[3], dy[3], forward[3];
+    std::copy(f[1], f[1] + 3, dx);
+    std::copy(f[2], f[2] + 3, dy);
+    std::copy(f[4], f[4] + 3, forward);
+    program->SetUniform3f("hovr_rayCentre", centre);
+    program->SetUniform3f("hovr_rayDx", dx);
+    program->SetUniform3f("hovr_rayDy", dy);
+    program->SetUniform3f("hovr_rayEye", eye);
+    program->SetUniform3f("hovr_rayForward", forward);
+    program->SetUniform2f("hovr_rayPixelCentre", pixelCentre);
     program->SetUniformi("hovr_rayPerspective", this->RayPerspective);
   }
   if (this->BlockSize > 0)
   {
-    program->SetUniformi("hovr_blockRange", this->BlockTexture->GetTextureUnit());
+    program->SetUniformi(
+      "hovr_blockRange", this->GetCurrentBrickTexture(this->BlockTextures)->GetTextureUnit());
   }
   if (this->PackedThisFrame)
   {
-    program->SetUniformi("hovr_corners", this->CornerTexture->GetTextureUnit());
+    program->SetUniformi(
+      "hovr_corners", this->GetCurrentBrickTexture(this->CornerTextures)->GetTextureUnit());
   }
+  vtkOpenGLState* state = this->Context ? this->Context->GetState() : nullptr;
   if (this->BlendMode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
     program->SetUniform1fv(
       "hovr_isoRaw", static_cast<int>(this->IsoRaw.size()), this->IsoRaw.data());
+    if (state && this->OutputQuantity != OUTPUT_COLOR)
+    {
+      // Measured hits replace what is there (w is 1 + the brick, not an opacity).
+      state->vtkglDisable(GL_BLEND);
+    }
   }
   else
   {
     program->SetUniformf("hovr_rawExtreme", this->RawExtreme);
+    if (this->Rounds)
+    {
+      program->SetUniformi("hovr_round", this->Round);
+      // Round 1 reads no extremes, but its sampler needs a 2D texture's unit of its own.
+      program->SetUniformi("hovr_extremes",
+        (this->Round == 2 ? this->ExtremeTexture : this->ColourTexture)->GetTextureUnit());
+    }
+    if (state && this->Round == 1)
+    {
+      state->vtkglEnable(GL_BLEND);
+      state->vtkglBlendEquation(
+        this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND ? GL_MAX : GL_MIN);
+    }
+    else if (state && this->Round == 2)
+    {
+      // Every brick that writes a pixel writes the same colour.
+      state->vtkglDisable(GL_BLEND);
+    }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  const bool projection = this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND;
+  vtkOpenGLRenderWindow* context = this->Context;
+  if (!projection || this->GetNumberOfBricks() < 2 || !context)
+  {
+    this->Superclass::DrawBrickedFrame(ren, vol);
+    return;
+  }
+  // A maximum or minimum does not composite by "over": round 1 keeps each pixel's extremum
+  // over the bricks in a float target (maximum or minimum blending), round 2 draws the colour
+  // of the bricks that hold it into another, which goes over the frame last.
+  vtkOpenGLState* state = context->GetState();
+  const int* size = context->GetSize();
+  auto target = [&](vtkTextureObject* texture)
+  {
+    if (texture->GetWidth() != static_cast<unsigned int>(size[0]) ||
+      texture->GetHeight() != static_cast<unsigned int>(size[1]) ||
+      texture->GetContext() != context)
+    {
+      texture->ReleaseGraphicsResources(context);
+      texture->SetContext(context);
+      texture->SetInternalFormat(GL_RGBA32F);
+      texture->SetFormat(GL_RGBA);
+      texture->SetDataType(GL_FLOAT);
+      texture->Allocate2D(size[0], size[1], 4, VTK_FLOAT);
+      texture->SetMinificationFilter(vtkTextureObject::Nearest);
+      texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+    }
+  };
+  target(this->ExtremeTexture);
+  target(this->ColourTexture);
+  const bool colour = this->OutputQuantity == OUTPUT_COLOR;
+  const bool maximum = this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
+  const float inf = std::numeric_limits<float>::infinity();
+  {
+    vtkOpenGLState::ScopedglClearColor clearColor(state);
+    vtkOpenGLState::ScopedglEnableDisable scissor(state, GL_SCISSOR_TEST);
+    state->vtkglDisable(GL_SCISSOR_TEST);
+    // Rays read the frame's depth (VTK copies it from the read framebuffer); only the draw
+    // framebuffer is the target.
+    state->PushFramebufferBindings();
+    this->Targets->SetContext(context);
+    this->Targets->Bind(GL_DRAW_FRAMEBUFFER);
+    this->Targets->AddColorAttachment(0, this->ExtremeTexture);
+    this->Targets->ActivateDrawBuffers(1);
+    state->vtkglClearColor(maximum ? -inf : inf, 0.0f, 0.0f, 0.0f);
+    state->vtkglClear(GL_COLOR_BUFFER_BIT);
+    this->Round = 1;
+    this->ColourTexture->Activate();
+    this->DrawBrickRound(ren, vol);
+    this->ColourTexture->Deactivate();
+    state->vtkglBlendEquation(GL_FUNC_ADD);
+    if (colour)
+    {
+      this->Targets->Bind(GL_DRAW_FRAMEBUFFER);
+      this->Targets->AddColorAttachment(0, this->ColourTexture);
+      this->Targets->ActivateDrawBuffers(1);
+      state->vtkglClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+      state->vtkglClear(GL_COLOR_BUFFER_BIT);
+      this->ExtremeTexture->Activate();
+      this->Round = 2;
+      this->DrawBrickRound(ren, vol);
+      this->ExtremeTexture->Deactivate();
+    }
+    this->Round = 0;
+    this->Targets->RemoveColorAttachment(0);
+    state->PopFramebufferBindings();
+  }
+
+  // Over the frame: the colour (premultiplied, transparent where no ray met the volume) or the
+  // measured extremum.
+  vtkOpenGLState::ScopedglBlendFuncSeparate blendSaver(state);
+  vtkOpenGLState::ScopedglEnableDisable blendEnabled(state, GL_BLEND);
+  vtkOpenGLState::ScopedglEnableDisable depthTest(state, GL_DEPTH_TEST);
+  vtkOpenGLState::ScopedglDepthMask depthMask(state);
+  state->vtkglDisable(GL_DEPTH_TEST);
+  state->vtkglDepthMask(GL_FALSE);
+  int width, height, x0, y0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (colour)
+  {
+    state->vtkglEnable(GL_BLEND);
+    state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    this->ColourTexture->Activate();
+    this->ColourTexture->CopyToFrameBuffer(x0, y0, x0 + width - 1, y0 + height - 1, x0, y0,
+      x0 + width - 1, y0 + height - 1, size[0], size[1], nullptr, nullptr);
+    this->ColourTexture->Deactivate();
+    return;
+  }
+  // Measured: (extremum, 0, 0, 1) where a ray met the volume, nothing elsewhere.
+  if (!this->ExtremeCopy)
+  {
+    this->ExtremeCopy.reset(new vtkOpenGLQuadHelper(context, nullptr,
+      "//VTK::System::Dec\n"
+      "in vec2 texCoord;\n"
+      "uniform sampler2D extremes;\n"
+      "//VTK::Output::Dec\n"
+      "void main()\n"
+      "{\n"
+      "  vec4 v = texture(extremes, texCoord);\n"
+      "  if (v.w == 0.0)\n"
+      "  {\n"
+      "    discard;\n"
+      "  }\n"
+      "  gl_FragData[0] = vec4(v.x, 0.0, 0.0, 1.0);\n"
+      "}\n",
+      ""));
+  }
+  state->vtkglDisable(GL_BLEND);
+  context->GetShaderCache()->ReadyShaderProgram(this->ExtremeCopy->Program);
+  this->ExtremeTexture->Activate();
+  this->ExtremeCopy->Program->SetUniformi("extremes", this->ExtremeTexture->GetTextureUnit());
+  vtkOpenGLState::ScopedglViewport viewport(state);
+  state->vtkglViewport(x0, y0, width, height);
+  this->ExtremeCopy->Render();
+  this->ExtremeTexture->Deactivate();
 }
 
 //------------------------------------------------------------------------------

@@ -41,12 +41,17 @@
 #include "hovrRenderingOpenGLModule.h" // For export macro
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
-#include "vtkTimeStamp.h" // For ivar
+#include "vtkSmartPointer.h" // For ivar
+#include "vtkTimeStamp.h"    // For ivar
 
+#include <memory> // For std::unique_ptr
 #include <string> // For std::string
 #include <vector> // For std::vector
 
 class vtkCameraRayModel;
+class vtkOpenGLFramebufferObject;
+class vtkOpenGLQuadHelper;
+class vtkOpenGLRenderWindow;
 class vtkTextureObject;
 
 class HOVRRENDERINGOPENGL_EXPORT vtkAnalyticVolumeMapper
@@ -67,6 +72,8 @@ public:
   {
     OUTPUT_COLOR = 0,    ///< the image
     OUTPUT_POSITION = 1, ///< RGBA = (grid index of the surface hit, 1); 0 on a miss
+                         ///< (ANALYTIC: the grid index is brick b's, w = 1 + b, see
+                         ///< GetBrickOrigin)
     OUTPUT_SCALAR = 2    ///< RGBA = (extremum in data units, 0, 0, 1); 0 where the ray misses
   };
 
@@ -154,20 +161,19 @@ protected:
   void ActivateExtensionTextures() override;
   void DeactivateExtensionTextures() override;
   void ReleaseExtensionResources(vtkWindow* window) override;
+  void DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol) override;
 
-  // Build and upload the block ranges of these scalars unless they are current.
-  bool UpdateBlockRanges(vtkRenderer* ren,
+  // Build and upload each brick's block ranges (BlockSize) and, when PackedThisFrame, packed
+  // corners, unless they are current; false when a texture could not be made.
+  bool UpdateBrickTextures(vtkRenderer* ren,
     vtkDataArray* scalars,
     const int dims[3],
     double scale,
     double shift);
 
-  // Upload the cells' corners packed 4 per texel (see the .cxx).
-  bool UpdateCornerTexture(vtkRenderer* ren,
-    vtkDataArray* scalars,
-    const int dims[3],
-    double scale,
-    double shift);
+  // The texture of the brick drawn, of a per-brick list.
+  vtkTextureObject* GetCurrentBrickTexture(
+    std::vector<vtkSmartPointer<vtkTextureObject>>& textures);
 
   // The rays of this frame as an affine frame in grid index (vtkCameraRayModel, double), when
   // the model describes the camera; otherwise the shader goes through VTK's float matrices.
@@ -180,10 +186,8 @@ protected:
   int OutputQuantity = OUTPUT_COLOR;
   int BlockSize = 8;
   vtkIdType BlockTextureMemorySize = 0;
-  vtkTextureObject* BlockTexture;
-  vtkTimeStamp BlockBuildTime;
-  vtkDataArray* BlockScalars = nullptr; // not referenced: only compared
-  int BlockBuiltSize = 0;
+  std::vector<vtkSmartPointer<vtkTextureObject>> BlockTextures; // per brick
+  std::string BlockKey; // what they were built from
 
   // Per frame: what the shader is built for and the values it needs.
   bool StockThisFrame = false;
@@ -192,6 +196,7 @@ protected:
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
   float RawRange[2] = { 0.0f, 1.0f }; // the data's finite range in texture values
+  float RawToVtkRaw[2] = { 1.0f, 0.0f }; // raw value -> VTK's texture's raw value
 
   // Whether the scalars hold NaN, kept for the scalars and their modification time.
   bool HasNaN(vtkDataArray* scalars);
@@ -204,14 +209,23 @@ protected:
   bool PackedThisFrame = false; // CornerPacking within the limit, unless the copy failed
   vtkDataArray* UnpackableScalars = nullptr; // not referenced: only compared
   vtkMTimeType UnpackableTime = 0;
-  vtkTextureObject* CornerTexture;
+  std::vector<vtkSmartPointer<vtkTextureObject>> CornerTextures; // per brick
   vtkIdType CornerTextureMemorySize = 0;
-  vtkTimeStamp CornerBuildTime;
-  vtkDataArray* CornerScalars = nullptr; // not referenced: only compared
+  std::string CornerKey; // what they were built from
   int RayFrameInUse = 0;
-  float RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
-  float RayPixelCentre[2] = { 0.0f, 0.0f };
+  double RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
+  double RayPixelCentre[2] = { 0.0, 0.0 };
   int RayPerspective = 0;
+
+  // Projections over several bricks (DrawBrickedFrame): the round drawn (0: one brick), each
+  // pixel's extremum, the colour, their framebuffer, and the extremum's copy for measurements.
+  bool Rounds = false; // whether this frame's projection is drawn in rounds
+  int Round = 0;
+  vtkOpenGLRenderWindow* Context = nullptr; // of the frame
+  vtkTextureObject* ExtremeTexture;
+  vtkTextureObject* ColourTexture;
+  vtkOpenGLFramebufferObject* Targets;
+  std::unique_ptr<vtkOpenGLQuadHelper> ExtremeCopy;
 
 private:
   vtkAnalyticVolumeMapper(const vtkAnalyticVolumeMapper&) = delete;

@@ -1,13 +1,17 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
+#include "vtkCamera.h"
 #include "vtkCellData.h"
+#include "vtkIdList.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkOpenGLRenderPass.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
@@ -17,6 +21,7 @@
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
+#include "vtkVolumeBrickLayout.h"
 #include "vtkVolumeImageAlgorithm.h"
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
@@ -82,6 +87,8 @@ vtkStandardNewMacro(vtkGPURayCastShaderHook);
 vtkExtensibleGPUVolumeRayCastMapper::vtkExtensibleGPUVolumeRayCastMapper()
   : Hook(vtkGPURayCastShaderHook::New())
 {
+  this->Bricks = vtkOpenGLVolumeBricks::New();
+  this->Proxy = vtkImageData::New();
   this->Hook->Mapper = this;
   this->AutoAdjustSampleDistances = 0;
   this->ExtensionShaderTime.Modified();
@@ -92,6 +99,8 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
 {
   this->Hook->Mapper = nullptr;
   this->Hook->Delete();
+  this->Bricks->Delete();
+  this->Proxy->Delete();
   this->SetTextureScalars(nullptr);
   this->WidenedTextureScalars(nullptr);
 }
@@ -116,16 +125,17 @@ bool vtkExtensibleGPUVolumeRayCastMapper::ReplaceShaderTag(std::string& source,
 //------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
 {
-  // VTK draws nothing, with no error but log lines, from a volume texture it cannot create:
-  // checked for the input's own scalars first, and for texture scalars the frame sets.
-  if (!this->CheckFrameVolumeTexture(ren, nullptr))
+  this->BrickedThisFrame = false;
+  const FramePlan plan = this->PrepareExtension(ren, vol);
+  if (plan == DrawNothing)
   {
     return;
   }
-  const FramePlan plan = this->PrepareExtension(ren, vol);
-  if (plan == DrawNothing ||
-    (plan == DrawWithExtension && this->TextureScalars &&
-      !this->CheckFrameVolumeTexture(ren, this->TextureScalars)))
+  // VTK draws nothing, with no error but log lines, from a volume texture it cannot create.
+  // Bricked frames give VTK only a proxy of each brick's box.
+  if (!(plan == DrawWithExtension && this->BrickedThisFrame) &&
+    !this->CheckFrameVolumeTexture(
+      ren, plan == DrawWithExtension ? this->TextureScalars : nullptr))
   {
     return;
   }
@@ -147,9 +157,16 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   vtkInformationObjectBaseVectorKey* passes = vtkOpenGLRenderPass::RenderPasses();
   passes->Append(keys, this->Hook);
 
-  this->ActivateExtensionTextures();
-  this->Superclass::GPURender(ren, vol);
-  this->DeactivateExtensionTextures();
+  if (this->BrickedThisFrame)
+  {
+    this->DrawBrickedFrame(ren, vol);
+  }
+  else
+  {
+    this->ActivateExtensionTextures();
+    this->Superclass::GPURender(ren, vol);
+    this->DeactivateExtensionTextures();
+  }
   this->ExtensionFrameCount++;
 
   passes->Remove(keys, this->Hook);
@@ -157,6 +174,171 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   {
     keys->Remove(passes);
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(
+  vtkRenderer* ren, vtkDataArray* scalars, const int dims[3], int ghostPoints, bool filtered)
+{
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  const int largest = context ? vtkTextureObject::GetMaximumTextureSize3D(context) : 0;
+  int points = largest > 0 ? largest : 2048;
+  if (this->MaximumBrickSize > 0)
+  {
+    points = std::min(points, this->MaximumBrickSize);
+  }
+  vtkVolumeBrickLayout* layout = this->Bricks->GetLayout();
+  layout->SetGhostPoints(ghostPoints);
+  layout->SetMaximumBrickPoints(points);
+  layout->SetMaximumBrickBytes(static_cast<double>(this->MaximumTextureBytes));
+  this->Bricks->SetFiltered(filtered);
+  std::string why;
+  if (!this->Bricks->Update(context, scalars, dims, why))
+  {
+    vtkErrorMacro("Cannot draw the volume: " << why << ". Not drawing.");
+    return false;
+  }
+  this->BrickedThisFrame = true;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetBrickCells(int cells[6])
+{
+  this->Bricks->GetLayout()->GetBrickCells(this->CurrentBrick, cells);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetBrickPoints(int points[6])
+{
+  this->Bricks->GetLayout()->GetBrickPoints(this->CurrentBrick, points);
+}
+
+//------------------------------------------------------------------------------
+int vtkExtensibleGPUVolumeRayCastMapper::GetNumberOfBricks()
+{
+  return this->Bricks->GetNumberOfBricks();
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetBrickOrigin(int brick, int origin[3])
+{
+  int points[6];
+  this->Bricks->GetLayout()->GetBrickPoints(brick, points);
+  for (int a = 0; a < 3; ++a)
+  {
+    origin[a] = points[2 * a];
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkExtensibleGPUVolumeRayCastMapper::GetBrickTextureMemorySize()
+{
+  return this->Bricks->GetMemorySize();
+}
+
+//------------------------------------------------------------------------------
+vtkTextureObject* vtkExtensibleGPUVolumeRayCastMapper::GetBrickTexture()
+{
+  return this->Bricks->GetTexture(this->CurrentBrick);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  this->DrawBrickRound(ren, vol);
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  // VTK draws each brick's box from a 2 x 2 x 2 proxy of the scalars' type holding their
+  // finite range, so that its transfer-function tables and texture mapping are the input's.
+  if (!this->ProxyScalars || this->ProxyScalars->GetDataType() != scalars->GetDataType())
+  {
+    this->ProxyScalars.TakeReference(vtkDataArray::CreateDataArray(scalars->GetDataType()));
+    this->ProxyScalars->SetNumberOfValues(8);
+    this->Proxy->GetPointData()->SetScalars(this->ProxyScalars);
+  }
+  this->ProxyScalars->SetName(scalars->GetName());
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  for (vtkIdType i = 0; i < 8; ++i)
+  {
+    this->ProxyScalars->SetComponent(i, 0, i < 4 ? range[0] : range[1]);
+  }
+  this->ProxyScalars->Modified();
+  this->Proxy->SetDimensions(2, 2, 2);
+  this->Proxy->SetDirectionMatrix(input->GetDirectionMatrix());
+
+  // Back to front: the viewer in 0-based grid index (the eye, or the view direction).
+  vtkCamera* camera = ren->GetActiveCamera();
+  vtkNew<vtkMatrix4x4> toData;
+  vtkMatrix4x4::Invert(vol->GetMatrix(), toData);
+  const bool parallel = camera->GetParallelProjection() != 0;
+  double eye[4] = { 0, 0, 0, 1 }, viewer[3];
+  camera->GetPosition(eye);
+  eye[3] = 1.0;
+  double direction[4] = { 0, 0, 0, 0 };
+  camera->GetDirectionOfProjection(direction);
+  double* point = parallel ? direction : eye;
+  toData->MultiplyPoint(point, point);
+  const int* extent = input->GetExtent();
+  if (parallel)
+  {
+    // Directions map through the linear part of physical -> index.
+    double origin[3] = { 0, 0, 0 }, tip[3];
+    input->TransformPhysicalPointToContinuousIndex(origin, origin);
+    input->TransformPhysicalPointToContinuousIndex(point, tip);
+    for (int a = 0; a < 3; ++a)
+    {
+      viewer[a] = tip[a] - origin[a];
+    }
+  }
+  else
+  {
+    input->TransformPhysicalPointToContinuousIndex(point, viewer);
+    for (int a = 0; a < 3; ++a)
+    {
+      viewer[a] -= extent[2 * a];
+    }
+  }
+  vtkNew<vtkIdList> order;
+  this->Bricks->GetLayout()->GetBackToFront(viewer, parallel, order);
+
+  // VTK's ray caster reads its input from the shallow copy it keeps; the proxy stands in for
+  // it during the bricks' draws.
+  vtkDataSet*& slot = this->TransformedInputs[0];
+  vtkDataSet* saved = slot;
+  slot = this->Proxy;
+  for (vtkIdType n = 0; n < order->GetNumberOfIds(); ++n)
+  {
+    this->CurrentBrick = static_cast<int>(order->GetId(n));
+    int cells[6];
+    this->GetBrickCells(cells);
+    double origin[3], spacing[3];
+    input->TransformContinuousIndexToPhysicalPoint(
+      extent[0] + cells[0], extent[2] + cells[2], extent[4] + cells[4], origin);
+    for (int a = 0; a < 3; ++a)
+    {
+      spacing[a] = input->GetSpacing()[a] * (cells[2 * a + 1] - cells[2 * a]);
+    }
+    this->Proxy->SetOrigin(origin);
+    this->Proxy->SetSpacing(spacing);
+    this->Proxy->Modified();
+    vtkTextureObject* texture = this->GetBrickTexture();
+    texture->Activate();
+    this->ActivateExtensionTextures();
+    this->Superclass::GPURender(ren, vol);
+    this->DeactivateExtensionTextures();
+    texture->Deactivate();
+  }
+  slot = saved;
+  this->CurrentBrick = 0;
 }
 
 //------------------------------------------------------------------------------
@@ -203,6 +385,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::PlaceTextureScalars(vtkDataArray* scal
 void vtkExtensibleGPUVolumeRayCastMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
   this->ReleaseExtensionResources(window);
+  this->Bricks->ReleaseGraphicsResources(window);
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
@@ -212,6 +395,8 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
   os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
+  os << indent << "MaximumBrickSize: " << this->MaximumBrickSize << "\n";
+  os << indent << "NumberOfBricks: " << this->Bricks->GetNumberOfBricks() << "\n";
 }
 
 //------------------------------------------------------------------------------

@@ -27,11 +27,14 @@
 
 #include "hovrRenderingOpenGLModule.h" // For export macro
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
-#include "vtkTimeStamp.h" // For ivar
+#include "vtkSmartPointer.h" // For ivar
+#include "vtkTimeStamp.h"    // For ivar
 
 #include <string> // For std::string
 
 class vtkGPURayCastShaderHook;
+class vtkImageData;
+class vtkOpenGLVolumeBricks;
 class vtkOpenGLRenderWindow;
 class vtkPiecewiseFunction;
 class vtkShaderProgram;
@@ -103,6 +106,31 @@ public:
   vtkSetClampMacro(MaximumTextureBytes, vtkIdType, 1024, VTK_ID_MAX);
   vtkGetMacro(MaximumTextureBytes, vtkIdType);
   ///@}
+
+  ///@{
+  /**
+   * The most points along an axis of one brick, for the methods that draw a volume brick by
+   * brick from textures of their own (a volume with an axis beyond the GPU's
+   * GL_MAX_3D_TEXTURE_SIZE or over MaximumTextureBytes is split into bricks, each drawn over its
+   * own box and composited back to front, with the image of one piece). 0 leaves it to the GPU's
+   * limit. Initial value is 0 (a subclass may set another, see its documentation).
+   */
+  vtkSetClampMacro(MaximumBrickSize, int, 0, 1 << 20);
+  vtkGetMacro(MaximumBrickSize, int);
+  ///@}
+
+  /**
+   * Bricks of the last frame drawn brick by brick, and the bytes of GPU memory their textures
+   * hold (0 for methods that draw from VTK's volume texture).
+   */
+  int GetNumberOfBricks();
+  vtkIdType GetBrickTextureMemorySize();
+
+  /**
+   * The first point (0-based grid index) of brick b's texture in the last bricked frame: a
+   * position in the brick's own grid index plus this is one in the volume's.
+   */
+  void GetBrickOrigin(int brick, int origin[3]);
 
 protected:
   vtkExtensibleGPUVolumeRayCastMapper();
@@ -237,6 +265,34 @@ protected:
   bool CheckFrameVolumeTexture(vtkRenderer* ren, vtkDataArray* uploaded);
 
   /**
+   * For methods that draw from hovr's brick textures (vtkOpenGLVolumeBricks) instead of VTK's
+   * volume texture: lay out and upload the bricks of the frame's scalars, ghostPoints beyond
+   * each brick's own cells, filtered (linear interpolation, 8-bit data as 16-bit) or not. The
+   * frame is then drawn brick by brick in visibility order, VTK drawing each brick's box; while
+   * a brick is drawn, GetBrickCells(), GetBrickPoints() and GetBrickTexture() describe it and its
+   * texture is active. False after an error (nothing is drawn).
+   */
+  bool PrepareBricks(
+    vtkRenderer* ren, vtkDataArray* scalars, const int dims[3], int ghostPoints, bool filtered);
+  void GetBrickCells(int cells[6]);
+  void GetBrickPoints(int points[6]);
+
+  /**
+   * Draw a bricked frame: by default one round of DrawBrickRound(). A method whose results do
+   * not composite by "over" (a maximum) draws several rounds into targets of its own.
+   */
+  virtual void DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol);
+
+  /**
+   * Draw every brick once, back to front, each over its own box.
+   */
+  void DrawBrickRound(vtkRenderer* ren, vtkVolume* vol);
+  vtkTextureObject* GetBrickTexture();
+  int GetCurrentBrick() const { return this->CurrentBrick; }
+  vtkOpenGLVolumeBricks* GetBricks() { return this->Bricks; }
+  bool GetBrickedThisFrame() const { return this->BrickedThisFrame; }
+
+  /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.
    */
   void ExtensionShaderModified() { this->ExtensionShaderTime.Modified(); }
@@ -250,6 +306,7 @@ protected:
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
   vtkIdType MaximumTextureBytes = vtkIdType(1) << 30;
+  int MaximumBrickSize = 0;
   vtkMTimeType ReportedBoundsTime = 0; // the input time whose bounds GetBounds reported
   std::string FragmentShaderSource;
   std::string LastFallbackWarning;
@@ -261,6 +318,12 @@ private:
 
   friend class vtkGPURayCastShaderHook;
   vtkGPURayCastShaderHook* Hook;
+
+  vtkOpenGLVolumeBricks* Bricks;
+  vtkImageData* Proxy;
+  vtkSmartPointer<vtkDataArray> ProxyScalars;
+  bool BrickedThisFrame = false;
+  int CurrentBrick = 0;
   vtkDataArray* TextureScalars = nullptr;
   // WidenedTextureScalars()' cached copy and what it was made from.
   vtkDataArray* WidenedScalars = nullptr;

@@ -16,6 +16,10 @@
 // any sample is computed. With blocks, the ray walks the blocks with the same traversal and
 // enters only those whose range may hold what is sought (hovr_walkBlocks, hovr_walkCells).
 //
+// The mapper draws the volume brick by brick (vtkOpenGLVolumeBricks, no ghosts): each draw
+// walks the cells of one brick, from hovr_volume, in the brick's own grid index (point i of
+// the texture at i), so that float positions stay at the scale of a brick.
+//
 // Switches defined before this code by vtkAnalyticVolumeMapper:
 //   HOVR_BLEND      1 maximum, 2 minimum intensity, 5 isosurface
 //   HOVR_ISO_COUNT  number of isovalues (isosurface only)
@@ -24,8 +28,13 @@
 //                   units in x, w = 1 where the ray meets the volume)
 //   HOVR_BLOCK      cells per block edge of hovr_blockRange (0: no block skipping)
 //   HOVR_PACKED     1 when the corners come packed 4 per texel from hovr_corners
+//   HOVR_ROUNDS     1 for a projection drawn in rounds over several bricks
 
-// hovr_rawToData, hovr_output and hovr_textureToIndex: hovrAnalyticCommon.glsl.
+// hovr_rawToData, hovr_output, hovr_textureToIndex and HOVR_VOLUME (hovr_volume, the
+// brick): hovrAnalyticCommon.glsl.
+uniform vec3 hovr_spacing;     // the volume's spacing
+uniform vec2 hovr_rawToVtkRaw; // raw value -> the raw value of VTK's texture, for its tables
+uniform float hovr_brick;      // the brick drawn, for HOVR_OUTPUT 1
 #if HOVR_BLOCK
 // Per block of HOVR_BLOCK^3 cells: the smallest and largest raw value of its points (the
 // interpolant stays between them), for skipping blocks that cannot hold an isovalue or beat
@@ -37,6 +46,11 @@ vec3 hovr_blocksInvSize;
 uniform float hovr_isoRaw[HOVR_ISO_COUNT]; // isovalues in raw texture units
 #else
 uniform float hovr_rawExtreme; // the data's largest (MIP) or smallest (MinIP) raw value
+#if HOVR_ROUNDS
+// Drawing rounds when there are several bricks: see the end of hovr_analyticRay.
+uniform int hovr_round;
+uniform sampler2D hovr_extremes; // round 2: each pixel's extremum over the bricks
+#endif
 #endif
 
 // The rays as an affine frame in grid index, computed in double on the CPU
@@ -77,11 +91,11 @@ void hovr_fetchCorners(ivec3 c)
 #else
 void hovr_fetchCorners(ivec3 c)
 {
-  hovr_lower = vec4(texelFetch(in_volume[0], c, 0).r, texelFetch(in_volume[0], c + ivec3(1, 0, 0), 0).r,
-    texelFetch(in_volume[0], c + ivec3(0, 1, 0), 0).r, texelFetch(in_volume[0], c + ivec3(1, 1, 0), 0).r);
-  hovr_upper = vec4(texelFetch(in_volume[0], c + ivec3(0, 0, 1), 0).r,
-    texelFetch(in_volume[0], c + ivec3(1, 0, 1), 0).r, texelFetch(in_volume[0], c + ivec3(0, 1, 1), 0).r,
-    texelFetch(in_volume[0], c + ivec3(1, 1, 1), 0).r);
+  hovr_lower = vec4(texelFetch(hovr_volume, c, 0).r, texelFetch(hovr_volume, c + ivec3(1, 0, 0), 0).r,
+    texelFetch(hovr_volume, c + ivec3(0, 1, 0), 0).r, texelFetch(hovr_volume, c + ivec3(1, 1, 0), 0).r);
+  hovr_upper = vec4(texelFetch(hovr_volume, c + ivec3(0, 0, 1), 0).r,
+    texelFetch(hovr_volume, c + ivec3(1, 0, 1), 0).r, texelFetch(hovr_volume, c + ivec3(0, 1, 1), 0).r,
+    texelFetch(hovr_volume, c + ivec3(1, 1, 1), 0).r);
 }
 #endif
 
@@ -180,10 +194,12 @@ float hovr_firstCrossing(vec3 ua, vec3 ub, vec2 critical, float v)
 }
 #endif
 
-// Texture coordinate of the transfer functions for a raw value, as VTK's shader computes it.
+// Texture coordinate of the transfer functions for a raw value, as VTK's shader computes it
+// from the raw value of its own texture.
 float hovr_transferCoord(float raw)
 {
-  return raw * in_volume_scale[0].r + in_volume_bias[0].r;
+  return (raw * hovr_rawToVtkRaw.x + hovr_rawToVtkRaw.y) * in_volume_scale[0].r +
+    in_volume_bias[0].r;
 }
 
 #if HOVR_BLEND != 5
@@ -358,13 +374,13 @@ bool hovr_cell(ivec3 cell, vec3 pe, vec3 px)
     return false;
   }
   vec3 u = mix(ua, ub, best);
-  hovr_output = vec4(vec3(cell) + u, 1.0);
+  hovr_output = vec4(vec3(cell) + u, 1.0 + hovr_brick);
   vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(hovr_transferCoord(bestIso), 0.0)).rgb;
 #if HOVR_SHADE
   // A white headlight along the ray, two-sided; angles in physical space: the gradient per
   // unit length is g / spacing, the ray direction dir * spacing.
-  vec3 normal = hovr_gradient(u) / in_cellSpacing[0];
-  vec3 view = hovr_dir * in_cellSpacing[0];
+  vec3 normal = hovr_gradient(u) / hovr_spacing;
+  vec3 view = hovr_dir * hovr_spacing;
   float nl = length(normal) > 0.0 ? abs(dot(normalize(normal), normalize(view))) : 0.0;
   rgb = rgb * (in_ambient[0].x + in_diffuse[0].x * nl) +
     vec3(nl > 0.0 ? in_specular[0].x * pow(nl, in_shininess[0]) : 0.0);
@@ -533,7 +549,7 @@ ivec3 hovr_blockBound(float span, vec3 exitPoint)
 // Walks the whole ray; called once, where VTK initialises its sampling loop.
 void hovr_analyticRay()
 {
-  ivec3 dims = textureSize(in_volume[0], 0);
+  ivec3 dims = textureSize(hovr_volume, 0);
   vec3 last = vec3(dims - ivec3(1));
   // The ray runs from the near plane to VTK's termination point (far plane or opaque
   // geometry), as a base point plus [sNear, sFar] along the unit direction.
@@ -608,9 +624,29 @@ void hovr_analyticRay()
   hovr_walkCells(hovr_entry, span, exitPoint, 4 * (dims.x + dims.y + dims.z));
 #endif
 #if HOVR_BLEND != 5
+  float value = hovr_extreme * hovr_rawToData.x + hovr_rawToData.y;
+#if HOVR_ROUNDS
+  // Several bricks: round 1 writes each brick's extremum (the target keeps the ray's through
+  // maximum or minimum blending), round 2 the colour, from the bricks that hold the ray's.
+  if (hovr_round == 1)
+  {
+    if (!hovr_found)
+    {
+      discard;
+    }
+    hovr_output = vec4(value, 0.0, 0.0, HOVR_BLEND == 1 ? 1.0 : -1.0);
+    g_fragColor = hovr_output;
+    return;
+  }
+  if (hovr_round == 2 &&
+    !(hovr_found && value == texelFetch(hovr_extremes, ivec2(gl_FragCoord.xy), 0).x))
+  {
+    discard;
+  }
+#endif
   if (hovr_found)
   {
-    hovr_output = vec4(hovr_extreme * hovr_rawToData.x + hovr_rawToData.y, 0.0, 0.0, 1.0);
+    hovr_output = vec4(value, 0.0, 0.0, 1.0);
     float coord = hovr_transferCoord(hovr_extreme);
     float opacity = texture2D(in_opacityTransferFunc_0[0], vec2(coord, 0.0)).r;
     vec3 rgb = texture2D(in_colorTransferFunc_0[0], vec2(coord, 0.0)).rgb;

@@ -13,7 +13,7 @@ import math
 import statistics
 import time
 
-from vtkmodules.vtkCommonCore import vtkCommand, vtkFloatArray
+from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkLight, vtkRenderer, vtkRenderWindow, vtkVolume
 # The OpenGL factories must be loaded for the window and mapper overrides.
@@ -315,16 +315,36 @@ class Renderer:
         finally:
             mapper.SetOutputQuantity(mapper.OUTPUT_COLOR)
         if iso:
-            values = vtkFloatArray()
-            rays.ComputeDepths(scene.image, raw, values)
+            import numpy
+            from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+            from vtkmodules.vtkCommonCore import vtkDoubleArray
+            # Bricked analytic hits are in brick w - 1's grid index: back to the volume's,
+            # in double.
+            positions = vtk_to_numpy(raw).astype(numpy.float64)
+            hit = positions[:, 3] > 0
+            if mapper.IsA("vtkAnalyticVolumeMapper") and \
+                    mapper.GetMethod() == mapper.ANALYTIC and hit.any():
+                bricks = numpy.rint(positions[hit, 3]).astype(int) - 1
+                origins = numpy.array([self._brick_origin(mapper, b)
+                                       for b in range(int(bricks.max()) + 1)], dtype=float)
+                positions[hit, :3] += origins[bricks]
+                positions[hit, 3] = 1.0
+            values = vtkDoubleArray()
+            rays.ComputeDepths(scene.image, numpy_to_vtk(positions, deep=1), values)
         else:
             import numpy
             from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
             rgba = vtk_to_numpy(raw)
             values = numpy_to_vtk(numpy.where(rgba[:, 3] > 0, rgba[:, 0], numpy.nan)
-                                  .astype(numpy.float32), deep=1)
+                                  .astype(numpy.float64), deep=1)
         values.SetName(BLEND_ARRAYS[scene.blend])
         image.GetPointData().AddArray(values)
+
+    @staticmethod
+    def _brick_origin(mapper, brick):
+        origin = [0, 0, 0]
+        mapper.GetBrickOrigin(brick, origin)
+        return origin
 
     def close(self):
         if self._window is not None:

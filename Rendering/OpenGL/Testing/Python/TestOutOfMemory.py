@@ -5,7 +5,8 @@
   draws with vtkFixedPointVolumeRayCastMapper after one warning, does not try the allocation
   again on later frames, and returns to the caster when the scalars change and memory
   suffices;
-- the reference integrator (a double copy): an error and an empty image;
+- the reference integrator reads the volume in place (vtkVolumeScalarView), so within the same
+  limit it draws its image, with no error;
 - a 3D pre-integration table built on the CPU: Update() is false, with an error that gives
   the table's size;
 - the analytic mapper's packed corners (4 values per point): one warning, and the cells are
@@ -171,11 +172,8 @@ reference.SetImageSize(*SIZE)
 limited(reference.Update)
 print("reference:", messages.errors)
 rgba = vtk_to_numpy(reference.GetOutput().GetPointData().GetScalars())
-c.check(len(messages.errors) == 1 and "Not enough memory" in messages.errors[0] and
-        "%d MiB" % -(-POINTS ** 3 * 8 // 2 ** 20) in messages.errors[0],
-        "reference out of memory: one error with the copy's size")
-c.check(rgba.shape == (SIZE[0] * SIZE[1], 4) and not rgba.any(),
-        "reference out of memory: the image is empty")
+c.check(not messages.errors and rgba.shape == (SIZE[0] * SIZE[1], 4) and rgba[:, 3].max() > 0,
+        "reference within the limit: no copy of the volume, the image is drawn")
 del reference
 
 # A second-order pre-integration table built on the CPU: 400^3 entries of float RGBA take
@@ -223,7 +221,7 @@ def two_frames():
 unpacked = limited(two_frames)
 print("analytic:", messages.errors, messages.warnings)
 c.check(not messages.errors and len(messages.warnings) == 1 and
-        "not enough memory" in messages.warnings[0] and "same image" in messages.warnings[0] and
+        "memory" in messages.warnings[0] and "same image" in messages.warnings[0] and
         analytic.GetCornerTextureMemorySize() == 0,
         "packed corners out of memory: one warning, no packed texture")
 analytic.SetCornerPacking(False)
