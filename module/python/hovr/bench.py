@@ -42,6 +42,14 @@ over those of a full-rate ray caster on the same slice grid) and the base step i
 (``slice_spacing_voxels``). A run's step ``"pixel"`` is that base step: the distance
 between neighbouring rays of the dataset's parallel camera, in voxels. A pre-integration run
 takes ``{"table_memory_mib": 256}``: the table memory limit its automatic sizes use.
+``"input": "marschner-lobb:N:TYPE"`` generates the volume as uint8, uint16 or float32, and
+``"tf_to_data_range": true`` maps the transfer function's nodes onto the data's range.
+``"reference_pixels": f`` in a dataset has the reference integrate a seeded fraction f of the
+pixels only (the others are left out of every measure), for volumes too large to integrate
+every pixel. ``"memory": true`` (top level or per dataset) runs each method once more in a
+process of its own and adds ``first_frame_ms`` (its first frame: uploads, tables, shader) and
+``peak_rss_mib`` (the process's peak resident memory, the volume included), and
+``volume_rss_mib``, the peak of a process that only loads the volume and opens the window.
 ``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
 image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
 approximations with the error term xi of El Hajjar et al., section 3.2.
@@ -68,6 +76,9 @@ import json
 import os
 import re
 import statistics
+import subprocess
+import sys
+import time
 
 from . import io as hio
 from . import methods as hm
@@ -88,7 +99,8 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "cpu_bytes", "instruction_set", "slice_spacing_voxels", "sample_ops",
               "synthesis_ops", "accumulate_ops", "boundary_sample_ops", "full_rate_samples",
               "sample_ratio_to_full",
-              "passes_per_frame"]
+              "passes_per_frame", "first_frame_ms", "peak_rss_mib", "volume_rss_mib",
+              "measured_pixels"]
 
 # Part of the reference cache key: bump when the reference's output changes.
 REFERENCE_VERSION = 3
@@ -132,13 +144,21 @@ def load_volume(spec, base=None):
             if raw_options:
                 raise HovrError("%s is generated: %s apply to raw input only" % (
                     prefix, ", ".join("--" + k.replace("_", "-") for k in raw_options)))
+            parts = source.split(":")
             try:
-                size = int(source.split(":")[1]) if ":" in source else default_size
+                size = int(parts[1]) if len(parts) > 1 else default_size
             except ValueError:
                 raise HovrError("%s:N needs an integer N, got %r" % (prefix, source)) from None
             if size < 2:
                 raise HovrError("%s needs at least 2 points per axis" % prefix)
             generator = getattr(sources, class_name)()
+            if len(parts) > 2:
+                # marschner-lobb:N:TYPE, the field scaled to the type's range.
+                types = {"float32": 10, "uint8": 3, "uint16": 5}
+                if prefix != "marschner-lobb" or parts[2] not in types or len(parts) > 3:
+                    raise HovrError("only marschner-lobb:N:TYPE takes a type (%s), got %r" % (
+                        ", ".join(sorted(types)), source))
+                generator.SetOutputScalarType(types[parts[2]])
             generator.SetDimensions(size, size, size)
             generator.Update()
             return generator.GetOutput()
@@ -235,11 +255,28 @@ def _reference_key(spec, image, prop_desc, camera, size):
     return digest.hexdigest()[:20]
 
 
+def _rescale_transfer_function(color, opacity, image):
+    """Map the transfer functions' nodes from their own value range onto the data's."""
+    low, high = image.GetPointData().GetScalars().GetFiniteRange()
+    for function, width in ((color, 6), (opacity, 4)):
+        nodes = []
+        for k in range(function.GetSize()):
+            node = [0.0] * width
+            function.GetNodeValue(k, node)
+            nodes.append(node)
+        first, last = nodes[0][0], nodes[-1][0]
+        for k, node in enumerate(nodes):
+            node[0] = low + (node[0] - first) / ((last - first) or 1.0) * (high - low)
+            function.SetNodeValue(k, node)
+
+
 def _scene_for(spec, base, size):
     image = load_volume(spec, base)
     warnings = hio.check_volume(image)
     tf_path = _expand(spec["tf"], base)
     color, opacity, _ = hio.read_transfer_function(tf_path)
+    if spec.get("tf_to_data_range"):
+        _rescale_transfer_function(color, opacity, image)
     unit = float(spec.get("opacity_unit_distance", 1.0))
     prop = hio.make_volume_property(color, opacity, unit)
     if spec.get("camera"):
@@ -247,7 +284,8 @@ def _scene_for(spec, base, size):
     else:
         camera = hio.default_camera(image.GetBounds(), parallel=bool(spec.get("parallel")))
     with open(tf_path, "rb") as stream:
-        prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit]
+        prop_desc = [hashlib.sha256(stream.read()).hexdigest(), unit,
+                     bool(spec.get("tf_to_data_range"))]
     if spec.get("shade"):
         prop.ShadeOn()
     blend = spec.get("blend", "composite")
@@ -302,9 +340,13 @@ def run(config_path, output, log=print, renderer=None):
                 raise
             for warning in warnings:
                 log("%s: warning: %s" % (name, warning))
+            fraction = spec.get("reference_pixels")
+            if fraction is not None:
+                prop_desc = prop_desc + ["pixels", fraction]
             reference = _reference(renderer, scene, name, output,
                                    _reference_key(spec, scene.image, prop_desc, scene.camera,
-                                                  size), log)
+                                                  size), log,
+                                   settings={"pixel_fraction": fraction} if fraction else None)
             hio.rgba_to_png(reference, os.path.join(output, "images", name + "_reference.png"))
             # Shaded datasets: also the ground truth with the cone that pre-integration uses,
             # which splits a method's error into the cone's and the rest.
@@ -322,6 +364,17 @@ def run(config_path, output, log=print, renderer=None):
                 if m.kind == "cpu":
                     runs.append((m, step))
                     results.append(renderer.render(m, scene, step, repeat))
+            memory = {}
+            if spec.get("memory", config.get("memory")):
+                volume_rss = _isolated_frame(spec, base, size, None, None, None)["peak_rss_mib"]
+                for n, step, threads, settings in _runs_of(spec, config):
+                    step = _resolve_step(step, scene)
+                    measured = _isolated_frame(spec, base, size, n, step, settings)
+                    measured["volume_rss_mib"] = volume_rss
+                    memory[(hm.get_method(n, threads, settings).name, step)] = measured
+                    log("%-10s %-9s step %-5g first frame %9.0f ms, peak %7.0f MiB (volume "
+                        "alone %.0f)" % (name, n, step, measured["first_frame_ms"],
+                                         measured["peak_rss_mib"], volume_rss))
             panels = []
             for (method, step), result in zip(runs, results):
                 errors, difference = hm.compare(result.image, reference)
@@ -335,6 +388,7 @@ def run(config_path, output, log=print, renderer=None):
                 if scene.blend != "composite":
                     row.update(hm.compare_blend(result.image, reference, scene))
                 row["dataset"] = name
+                row.update(memory.get((method.name, step), {}))
                 dataset_rows.append(row)
                 stem = "%s_%s_step%g" % (name, re.sub(r"[^A-Za-z0-9.=_-]+", "-", method.name),
                                          step)
@@ -368,14 +422,47 @@ def run(config_path, output, log=print, renderer=None):
     return rows, summary
 
 
-def _reference(renderer, scene, name, output, key, log, method="reference"):
+def _reference(renderer, scene, name, output, key, log, method="reference", settings=None):
     path = os.path.join(output, "cache", "%s_%s_%s.vti" % (method, name, key))
     if os.path.isfile(path):
         return hio.read_vti(path)
     log("%-10s computing the %s %dx%d ..." % (name, method, scene.size[0], scene.size[1]))
-    result = renderer.render(method, scene, 1.0, 0)
+    result = renderer.render(hm.get_method(method, settings=settings), scene, 1.0, 0)
     hio.write_vti(result.image, path)
     return result.image
+
+
+def _isolated_frame(spec, base, size, method, step, settings):
+    """One frame of ``method`` (None: none, the window only) in a process of its own: its
+    first frame's time and the process's peak resident memory, in a dict."""
+    request = json.dumps({"spec": spec, "base": base, "size": list(size), "method": method,
+                          "step": step, "settings": settings})
+    child = subprocess.Popen([sys.executable, "-c", "import sys; from hovr import bench; "
+                              "bench._isolated_frame_child(sys.argv[1])", request],
+                             stdout=subprocess.PIPE, env=dict(os.environ))
+    out = child.stdout.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    child.stdout.close()
+    if status != 0:
+        raise HovrError("the isolated frame of %s failed (status %d)" % (method, status))
+    result = json.loads(out.decode().strip().splitlines()[-1])
+    result["peak_rss_mib"] = usage.ru_maxrss / 1024.0  # kilobytes on Linux
+    return result
+
+
+def _isolated_frame_child(request):
+    request = json.loads(request)
+    scene, _, _ = _scene_for(request["spec"], request["base"], tuple(request["size"]))
+    renderer = hm.Renderer()
+    renderer._ensure_window(scene.size)
+    elapsed = 0.0
+    if request["method"]:
+        method = hm.get_method(request["method"], settings=request["settings"])
+        start = time.perf_counter()
+        renderer.render(method, scene, request["step"], 0)
+        elapsed = time.perf_counter() - start
+    renderer.close()
+    print(json.dumps({"first_frame_ms": 1000.0 * elapsed}))
 
 
 def _runs_of(spec, config):
