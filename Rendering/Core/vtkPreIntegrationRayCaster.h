@@ -33,7 +33,7 @@
  * Shading (SetShadingModel), as vtkPreIntegrationVolumeMapper shades (Guetat
  * et al. 2010, hovrPreIntegrationShading.glsl): each segment takes the normals at its two ends
  * (its samples; the box entry for the first segment, the exit for the last): the gradient as
- * GradientOperator says (by default VTK's GPU ray caster's, which the mapper uses) or the
+ * GradientOperator says (by default the reference integrator's, which the mapper uses) or the
  * trilinear interpolation of NormalArrayName's vectors, normalised (zero where it vanishes);
  * the view is the pixel ray's direction reversed; all in world coordinates, where the model's
  * lights are given (a headlight shines along the view). The segment is then composited:
@@ -167,8 +167,8 @@ public:
 
   enum GradientOperators
   {
-    GPU_GRADIENTS = 0,  ///< VTK 9.1's GPU ray caster's (computeGradient), the mapper's
-    POINT_GRADIENTS = 1 ///< vtkVolumeReferenceIntegrator's
+    GPU_GRADIENTS = 0,  ///< VTK 9.1's stock GPU ray caster's (computeGradient)
+    POINT_GRADIENTS = 1 ///< vtkVolumeReferenceIntegrator's and the mapper's
   };
 
   ///@{
@@ -180,10 +180,10 @@ public:
    * the box as the texture's clamp-to-edge does. POINT_GRADIENTS: the trilinear interpolation
    * of per-point differences of the neighbours one point away, one-sided at the faces
    * (vtkVolumeReferenceIntegrator's; the difference of the trilinear field one point either
-   * side). Both are the central difference of the trilinear field, at slightly different
-   * reaches: the table path needs GPU_GRADIENTS to draw the mapper's image, and R2 with
-   * POINT_GRADIENTS differs from the reference integrator by the segment model alone.
-   * Initial value is GPU_GRADIENTS.
+   * side; vtkPreIntegrationVolumeMapper's, whose bricks would give VTK's a different reach in
+   * each). Both are the central difference of the trilinear field, at slightly different
+   * reaches: with POINT_GRADIENTS the table path draws the mapper's image and R2 differs from
+   * the reference integrator by the segment model alone. Initial value is POINT_GRADIENTS.
    */
   vtkSetClampMacro(GradientOperator, int, GPU_GRADIENTS, POINT_GRADIENTS);
   vtkGetMacro(GradientOperator, int);
@@ -215,7 +215,7 @@ protected:
   vtkVolumeShadingModel* ShadingModel = nullptr;
   char* NormalArrayName = nullptr;
   int ShadedSubsteps = 256;
-  int GradientOperator = GPU_GRADIENTS;
+  int GradientOperator = POINT_GRADIENTS;
 
 private:
   vtkPreIntegrationRayCaster(const vtkPreIntegrationRayCaster&) = delete;

@@ -646,9 +646,17 @@ public:
 
   /**
    * The ray o + t v (grid index; t in world units, v the index-space image of a unit world
-   * direction) from t0 to t1 inside the box, samples `step` apart, `order` 1 or 2. Shaded
-   * pieces (IsShaded) get the grid's normals at both ends of each segment (first order) or at
-   * the front, middle and back of each slab (second order).
+   * direction) from t0 to t1 inside the box, `order` 1 or 2. Samples lie on the ray's own grid,
+   * t = k step for integers k, whatever part of the ray is integrated, so that pieces of a ray
+   * (bricks of a volume, pieces on MPI ranks) sample where the whole ray does. First order
+   * integrates the segments between the entry t0, the samples inside and the exit t1. Second
+   * order integrates slabs between even samples (k even) where a whole slab fits between t0
+   * and t1, through its front, middle (the odd sample) and back; the pieces before the first
+   * even sample and after the last whole slab end on every sample, so that none is longer than
+   * a step, and are integrated as slabs through their front, midpoint and back, scaled to their
+   * length. Shaded pieces (IsShaded) get the grid's
+   * normals at both ends of each segment (first order) or at the front, middle and back of
+   * each slab (second order).
    */
   template <class Pieces>
   static void Cast(const Grid& grid,
@@ -677,116 +685,80 @@ public:
         grid.Normal(p, n);
       }
     };
-    const double h = step;
-    const double length = t1 - t0;
-    double piece[4];
-    double sFront = at(t0);
-    double nFront[3] = { 0, 0, 0 }, nBack[3] = { 0, 0, 0 };
-    normalAt(t0, nFront);
-    if (order == 1)
+    if (!(t1 > t0))
     {
-      // Samples at t0 + k h, k >= 1; segments between them, the last one up to the exit,
-      // looked up between the last sample and the exit.
-      for (int k = 1;; ++k)
+      return;
+    }
+    // The pieces end on the samples k step after the entry (second order: on the even ones
+    // only where a whole slab fits), then at the exit.
+    const double h = step;
+    const double span = order == 1 ? h : 2.0 * h;
+    double k = std::floor(t0 / h) + 1.0;
+    const double firstEven = std::fmod(k, 2.0) == 0.0 ? k : k + 1.0;
+    double piece[4];
+    double tFront = t0;
+    double sFront = at(t0);
+    double nFront[3] = { 0, 0, 0 }, nMiddle[3] = { 0, 0, 0 }, nBack[3] = { 0, 0, 0 };
+    normalAt(t0, nFront);
+    for (;;)
+    {
+      const bool last = k * h >= t1;
+      const double tBack = last ? t1 : k * h;
+      const double fraction = (tBack - tFront) / span;
+      if (fraction > 0.0)
       {
-        const bool last = k * h >= length;
-        const double fraction = last ? (length - (k - 1) * h) / h : 1.0;
-        if (!(fraction > 0.0))
-        {
-          break;
-        }
-        const double tBack = last ? t1 : t0 + k * h;
         const double sBack = at(tBack);
         normalAt(tBack, nBack);
-        // A NaN sample makes its segments transparent (the GLSL skips them).
-        if (std::isnan(sFront + sBack))
+        if (order == 1)
         {
-          std::fill(piece, piece + 4, 0.0);
-        }
-        else if constexpr (shaded)
-        {
-          pieces.ShadedSegment(sFront, sBack, nFront, nBack, fraction, h, piece);
+          // A NaN sample makes its segments transparent (the GLSL skips them).
+          if (std::isnan(sFront + sBack))
+          {
+            std::fill(piece, piece + 4, 0.0);
+          }
+          else if constexpr (shaded)
+          {
+            pieces.ShadedSegment(sFront, sBack, nFront, nBack, fraction, h, piece);
+          }
+          else
+          {
+            pieces.Segment(sFront, sBack, fraction, h, piece);
+          }
         }
         else
         {
-          pieces.Segment(sFront, sBack, fraction, h, piece);
+          const double tMiddle = 0.5 * (tFront + tBack);
+          const double sMiddle = at(tMiddle);
+          normalAt(tMiddle, nMiddle);
+          if (std::isnan(sFront + sMiddle + sBack))
+          {
+            std::fill(piece, piece + 4, 0.0);
+          }
+          else if constexpr (shaded)
+          {
+            pieces.ShadedSlab(
+              sFront, sMiddle, sBack, nFront, nMiddle, nBack, fraction, span, piece);
+          }
+          else
+          {
+            pieces.Slab(sFront, sMiddle, sBack, fraction, span, piece);
+          }
         }
-        if (!Composite(piece, threshold, rgba) || last)
+        if (!Composite(piece, threshold, rgba))
         {
-          break;
+          return;
         }
+        tFront = tBack;
         sFront = sBack;
         std::copy(nBack, nBack + 3, nFront);
       }
-      return;
-    }
-    CastSlabs(pieces, h, threshold, at, normalAt, t0, t1, sFront, nFront, rgba);
-  }
-
-  // Second order: slabs of two steps from t0, then the rest. Shaded pieces get the normals
-  // at the slab's front, middle and back (nFront: at t0).
-  template <class Pieces, class At, class NormalAt>
-  static void CastSlabs(const Pieces& pieces,
-    double h,
-    double threshold,
-    const At& at,
-    const NormalAt& normalAt,
-    double t0,
-    double t1,
-    double sFront,
-    const double nEntry[3],
-    double rgba[4])
-  {
-    constexpr bool shaded = IsShaded<Pieces>::value;
-    const double length = t1 - t0;
-    double piece[4];
-    double nFront[3] = { nEntry[0], nEntry[1], nEntry[2] }, nMiddle[3] = { 0, 0, 0 },
-           nBack[3] = { 0, 0, 0 };
-    // Slabs (front, middle, back) of two samples from the entry; the rest as one piece
-    // through its front, midpoint and end.
-    double front = 0.0; // distance of the slab's front from the entry
-    while (front + 2.0 * h <= length)
-    {
-      const double sMiddle = at(t0 + front + h);
-      const double sBack = at(t0 + front + 2.0 * h);
-      normalAt(t0 + front + h, nMiddle);
-      normalAt(t0 + front + 2.0 * h, nBack);
-      if (std::isnan(sFront + sMiddle + sBack))
-      {
-        std::fill(piece, piece + 4, 0.0);
-      }
-      else if constexpr (shaded)
-      {
-        pieces.ShadedSlab(sFront, sMiddle, sBack, nFront, nMiddle, nBack, 1.0, 2.0 * h, piece);
-      }
-      else
-      {
-        pieces.Slab(sFront, sMiddle, sBack, 1.0, 2.0 * h, piece);
-      }
-      if (!Composite(piece, threshold, rgba))
+      if (last)
       {
         return;
       }
-      sFront = sBack;
-      std::copy(nBack, nBack + 3, nFront);
-      front += 2.0 * h;
-    }
-    const double rest = length - front;
-    const double sMiddle = at(t0 + front + 0.5 * rest), sBack = at(t1);
-    if (rest > 0.0 && !std::isnan(sFront + sMiddle + sBack))
-    {
-      if constexpr (shaded)
-      {
-        normalAt(t0 + front + 0.5 * rest, nMiddle);
-        normalAt(t1, nBack);
-        pieces.ShadedSlab(
-          sFront, sMiddle, sBack, nFront, nMiddle, nBack, rest / (2.0 * h), 2.0 * h, piece);
-      }
-      else
-      {
-        pieces.Slab(sFront, sMiddle, sBack, rest / (2.0 * h), 2.0 * h, piece);
-      }
-      Composite(piece, threshold, rgba);
+      // From an even sample a whole slab, when it fits before the exit.
+      k +=
+        order == 2 && k >= firstEven && std::fmod(k, 2.0) == 0.0 && (k + 2.0) * h <= t1 ? 2.0 : 1.0;
     }
   }
 };

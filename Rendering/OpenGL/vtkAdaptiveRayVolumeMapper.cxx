@@ -24,8 +24,7 @@
 #include "vtkVolumeTransferFunctionSampler.h"
 #include "vtk_glew.h"
 
-#include "hovrAdaptiveRay.h"          // the GLSL of the adaptive ray
-#include "hovrPreIntegrationCommon.h" // table coordinates and the distance to the exit
+#include "hovrAdaptiveRay.h" // the GLSL of the adaptive ray
 
 #include <algorithm>
 #include <cmath>
@@ -551,7 +550,7 @@ bool vtkAdaptiveRayVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
-      internal.Switches + hovrPreIntegrationCommon + hovrAdaptiveRay,
+      internal.Switches + hovrAdaptiveRay,
       Self::AfterTag);
   if (!ok)
   {

@@ -9,14 +9,15 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
-#include "vtkOpenGLVolumeBricks.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPlaneCollection.h"
 #include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
@@ -27,6 +28,7 @@
 
 #include "hovrAnalytic.h"       // the GLSL of the analytic ray caster
 #include "hovrAnalyticCommon.h" // the GLSL both modes share
+#include "hovrWindow.h"         // window to texture coordinates
 
 #include <algorithm>
 #include <cmath>
@@ -65,8 +67,9 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   const int blocks[3],
   std::vector<float>& ranges)
 {
-  const int dims[3] = { points[1] - points[0] + 1, points[3] - points[2] + 1,
-    points[5] - points[4] + 1 };
+  const int dims[3] = {
+    points[1] - points[0] + 1, points[3] - points[2] + 1, points[5] - points[4] + 1
+  };
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> lo(static_cast<size_t>(blocks[0]) * blocks[1] * blocks[2], inf);
   std::vector<double> hi(lo.size(), -inf);
@@ -127,8 +130,11 @@ void ComputeBlockRanges(vtkDataArray* scalars,
 // The 4 corners in x and y of each point of a brick's slices, x fastest (see
 // UpdateBrickTextures).
 template <typename T, typename Convert>
-void PackCorners(vtkDataArray* scalars, const int volumeDims[3], const int points[6],
-  Convert convert, std::vector<T>& out)
+void PackCorners(vtkDataArray* scalars,
+  const int volumeDims[3],
+  const int points[6],
+  Convert convert,
+  std::vector<T>& out)
 {
   const vtkIdType nx = volumeDims[0], ny = volumeDims[1];
   const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
@@ -153,7 +159,6 @@ void PackCorners(vtkDataArray* scalars, const int volumeDims[3], const int point
 
 //------------------------------------------------------------------------------
 vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
-  : RayModel(vtkCameraRayModel::New())
 {
   this->ExtremeTexture = vtkTextureObject::New();
   this->ColourTexture = vtkTextureObject::New();
@@ -166,49 +171,9 @@ vtkAnalyticVolumeMapper::vtkAnalyticVolumeMapper()
 //------------------------------------------------------------------------------
 vtkAnalyticVolumeMapper::~vtkAnalyticVolumeMapper()
 {
-  this->RayModel->Delete();
   this->ExtremeTexture->Delete();
   this->ColourTexture->Delete();
   this->Targets->Delete();
-}
-
-//------------------------------------------------------------------------------
-void vtkAnalyticVolumeMapper::UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol)
-{
-  // VTK's shader reaches a ray's points through float matrices from window to texture space,
-  // with eye-space values of the camera's distance: a ray's points round at the scale of that
-  // distance, which a slanted surface magnifies in depth beyond the 1e-3 voxel the analytic hit
-  // is held to. The camera model gives each ray's point near the volume and its direction in
-  // double, so float only rounds at the volume's own scale.
-  this->RayFrameInUse = 0;
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  vtkCamera* camera = ren->GetActiveCamera();
-  int size[2], lowerLeft[2];
-  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &lowerLeft[0], &lowerLeft[1]);
-  if (!input || !camera || size[0] < 1 || size[1] < 1)
-  {
-    return;
-  }
-  this->RayModel->SetCamera(camera);
-  this->RayModel->SetImageSize(size);
-  double frame[5][3];
-  bool perspective = false;
-  // Cameras the model does not describe (window centre, shear, explicit projection) keep
-  // VTK's matrices: 1e-9 in normalised device coordinates is far below a pixel.
-  if (!this->RayModel->Prepare() || this->RayModel->ComputeProjectionMismatch() > 1e-9 ||
-    !this->RayModel->GetGridRayFrame(
-      input, vol->GetMatrix(), frame[0], frame[1], frame[2], frame[3], frame[4], perspective))
-  {
-    return;
-  }
-  for (int v = 0; v < 5; ++v)
-  {
-    std::copy(frame[v], frame[v] + 3, this->RayFrame[v]);
-  }
-  this->RayPixelCentre[0] = 0.5 * size[0];
-  this->RayPixelCentre[1] = 0.5 * size[1];
-  this->RayPerspective = perspective ? 1 : 0;
-  this->RayFrameInUse = 1;
 }
 
 //------------------------------------------------------------------------------
@@ -329,7 +294,9 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
       texture->SetMagnificationFilter(vtkTextureObject::Nearest);
       this->CornerTextures.emplace_back(texture);
       this->CornerTextureMemorySize += static_cast<vtkIdType>(size[0]) * size[1] * size[2] * 4 *
-        (type == VTK_UNSIGNED_CHAR ? 1 : type == VTK_UNSIGNED_SHORT ? 2 : 4);
+        (type == VTK_UNSIGNED_CHAR       ? 1
+            : type == VTK_UNSIGNED_SHORT ? 2
+                                         : 4);
     }
   }
   if (!created)
@@ -460,6 +427,10 @@ const char* vtkAnalyticVolumeMapper::GetStockFallbackReason(vtkVolume* vol,
   {
     return "analytic rendering does not support cropping";
   }
+  if (this->GetClippingPlanes() && this->GetClippingPlanes()->GetNumberOfItems() > 0)
+  {
+    return "analytic rendering does not support clipping planes";
+  }
   if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
   {
     return "analytic rendering does not support 2D transfer functions";
@@ -549,7 +520,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   if (this->Method == ANALYTIC)
   {
     // Each cell's corners are read exactly (texelFetch): the data's own precision suffices.
-    if (!this->PrepareBricks(ren, scalars, dims, 0, false))
+    if (!this->PrepareBricks(ren, scalars, dims, 0, vtkOpenGLVolumeBricks::NATIVE, false))
     {
       return DrawNothing;
     }
@@ -621,8 +592,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   // scalars (tried again when they change): the cells are then read from the bricks, with the
   // same image.
   const int valueBytes = scalars->GetDataType() == VTK_UNSIGNED_CHAR ? 1
-    : scalars->GetDataType() == VTK_UNSIGNED_SHORT                    ? 2
-                                                                      : 4;
+    : scalars->GetDataType() == VTK_UNSIGNED_SHORT                   ? 2
+                                                                     : 4;
   const double packedBytes = 4.0 * valueBytes * (dims[0] - 1) * (dims[1] - 1.0) * dims[2];
   // Each brick's copy is one texture, within MaximumTextureBytes too.
   double largestBrick = 0.0;
@@ -664,12 +635,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     this->BlockTextureMemorySize = 0;
   }
 
-  this->Rounds = this->Method == ANALYTIC &&
-    this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND && this->GetNumberOfBricks() > 1;
+  this->Rounds = this->Method == ANALYTIC && this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND &&
+    this->GetNumberOfBricks() > 1;
   std::ostringstream key;
-  key << this->Rounds << " " << this->Method << " " << this->BlockSize << " " << this->BlendMode << " "
-      << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity << " "
-      << this->PackedThisFrame;
+  key << this->Rounds << " " << this->Method << " " << this->BlockSize << " " << this->BlendMode
+      << " " << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity
+      << " " << this->PackedThisFrame;
   if (key.str() != this->ShaderKey)
   {
     this->ShaderKey = key.str();
@@ -705,7 +676,7 @@ bool vtkAnalyticVolumeMapper::ReplaceExtensionShaderValues(std::string&,
       Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "", Self::ReplaceTag) &&
       Self::ReplaceShaderTag(fragmentShader,
         "//VTK::ComputeRayDirection::Dec",
-        switches.str() + hovrAnalyticCommon + hovrAnalytic,
+        switches.str() + hovrWindow + hovrAnalyticCommon + hovrAnalytic,
         Self::BeforeTag);
   }
   else
@@ -781,62 +752,7 @@ void vtkAnalyticVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* pro
   double spacing[3];
   input->GetSpacing(spacing);
   program->SetUniform3f("hovr_spacing", spacing);
-  program->SetUniformi("hovr_rayFrameInUse", this->RayFrameInUse);
-  if (this->RayFrameInUse)
-  {
-    // The brick's own frame: grid index from its first point, and the pixel nearest to its
-    // centre as the frame's centre, so that float positions stay at the brick's scale.
-    int points[6];
-    this->GetBrickPoints(points);
-    const double(*f)[3] = this->RayFrame;
-    double x[3], rhs[3], m[3][3];
-    for (int a = 0; a < 3; ++a)
-    {
-      x[a] = 0.5 * (points[2 * a] + points[2 * a + 1]);
-      // Solve p.x dx + p.y dy - l w = r for the pixel offset p of the ray through x.
-      const double w = this->RayPerspective ? x[a] - f[3][a] : f[4][a];
-      m[a][0] = f[1][a];
-      m[a][1] = f[2][a];
-      m[a][2] = -w;
-      rhs[a] = (this->RayPerspective ? f[3][a] : x[a]) - f[0][a];
-    }
-    double pixel[2] = { 0.0, 0.0 };
-    const double det = vtkMath::Determinant3x3(m);
-    if (std::abs(det) > 0.0)
-    {
-      for (int c = 0; c < 2; ++c)
-      {
-        double mc[3][3];
-        for (int a = 0; a < 3; ++a)
-        {
-          std::copy(m[a], m[a] + 3, mc[a]);
-          mc[a][c] = rhs[a];
-        }
-        const double value = vtkMath::Determinant3x3(mc) / det;
-        pixel[c] = std::isfinite(value) ? std::round(std::max(-1e6, std::min(value, 1e6))) : 0.0;
-      }
-    }
-    float centre[3], eye[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      centre[a] =
-        static_cast<float>(f[0][a] + pixel[0] * f[1][a] + pixel[1] * f[2][a] - points[2 * a]);
-      eye[a] = static_cast<float>(f[3][a] - points[2 * a]);
-    }
-    const float pixelCentre[2] = { static_cast<float>(this->RayPixelCentre[0] + pixel[0]),
-      static_cast<float>(this->RayPixelCentre[1] + pixel[1]) };
-    float dx[3], dy[3], forward[3];
-    std::copy(f[1], f[1] + 3, dx);
-    std::copy(f[2], f[2] + 3, dy);
-    std::copy(f[4], f[4] + 3, forward);
-    program->SetUniform3f("hovr_rayCentre", centre);
-    program->SetUniform3f("hovr_rayDx", dx);
-    program->SetUniform3f("hovr_rayDy", dy);
-    program->SetUniform3f("hovr_rayEye", eye);
-    program->SetUniform3f("hovr_rayForward", forward);
-    program->SetUniform2f("hovr_rayPixelCentre", pixelCentre);
-    program->SetUniformi("hovr_rayPerspective", this->RayPerspective);
-  }
+  this->SetRayFrameUniforms(program);
   if (this->BlockSize > 0)
   {
     program->SetUniformi(
@@ -968,15 +884,26 @@ void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
     state->vtkglEnable(GL_BLEND);
     state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     this->ColourTexture->Activate();
-    this->ColourTexture->CopyToFrameBuffer(x0, y0, x0 + width - 1, y0 + height - 1, x0, y0,
-      x0 + width - 1, y0 + height - 1, size[0], size[1], nullptr, nullptr);
+    this->ColourTexture->CopyToFrameBuffer(x0,
+      y0,
+      x0 + width - 1,
+      y0 + height - 1,
+      x0,
+      y0,
+      x0 + width - 1,
+      y0 + height - 1,
+      size[0],
+      size[1],
+      nullptr,
+      nullptr);
     this->ColourTexture->Deactivate();
     return;
   }
   // Measured: (extremum, 0, 0, 1) where a ray met the volume, nothing elsewhere.
   if (!this->ExtremeCopy)
   {
-    this->ExtremeCopy.reset(new vtkOpenGLQuadHelper(context, nullptr,
+    this->ExtremeCopy.reset(new vtkOpenGLQuadHelper(context,
+      nullptr,
       "//VTK::System::Dec\n"
       "in vec2 texCoord;\n"
       "uniform sampler2D extremes;\n"
@@ -1013,5 +940,4 @@ void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CornerPacking: " << this->CornerPacking << "\n";
   os << indent << "CornerPackingMemoryLimit: " << this->CornerPackingMemoryLimit << "\n";
   os << indent << "CornerTextureMemorySize: " << this->CornerTextureMemorySize << "\n";
-  os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
 }

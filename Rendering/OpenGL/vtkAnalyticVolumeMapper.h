@@ -48,7 +48,6 @@
 #include <string> // For std::string
 #include <vector> // For std::vector
 
-class vtkCameraRayModel;
 class vtkOpenGLFramebufferObject;
 class vtkOpenGLQuadHelper;
 class vtkOpenGLRenderWindow;
@@ -175,10 +174,6 @@ protected:
   vtkTextureObject* GetCurrentBrickTexture(
     std::vector<vtkSmartPointer<vtkTextureObject>>& textures);
 
-  // The rays of this frame as an affine frame in grid index (vtkCameraRayModel, double), when
-  // the model describes the camera; otherwise the shader goes through VTK's float matrices.
-  void UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol);
-
   // Why the analytic shader cannot draw this frame, or nullptr.
   const char* GetStockFallbackReason(vtkVolume* vol, vtkDataArray* scalars, int cellFlag);
 
@@ -187,7 +182,7 @@ protected:
   int BlockSize = 8;
   vtkIdType BlockTextureMemorySize = 0;
   std::vector<vtkSmartPointer<vtkTextureObject>> BlockTextures; // per brick
-  std::string BlockKey; // what they were built from
+  std::string BlockKey;                                         // what they were built from
 
   // Per frame: what the shader is built for and the values it needs.
   bool StockThisFrame = false;
@@ -195,7 +190,7 @@ protected:
   std::vector<float> IsoRaw;
   float RawToData[2] = { 1.0f, 0.0f };
   float RawExtreme = 0.0f;
-  float RawRange[2] = { 0.0f, 1.0f }; // the data's finite range in texture values
+  float RawRange[2] = { 0.0f, 1.0f };    // the data's finite range in texture values
   float RawToVtkRaw[2] = { 1.0f, 0.0f }; // raw value -> VTK's texture's raw value
 
   // Whether the scalars hold NaN, kept for the scalars and their modification time.
@@ -203,7 +198,6 @@ protected:
   vtkDataArray* NaNScalars = nullptr; // not referenced: only compared
   vtkMTimeType NaNTime = 0;
   bool ScalarsHaveNaN = false;
-  vtkCameraRayModel* RayModel;
   bool CornerPacking = true;
   double CornerPackingMemoryLimit = 256.0 * 1048576.0;
   bool PackedThisFrame = false; // CornerPacking within the limit, unless the copy failed
@@ -212,10 +206,6 @@ protected:
   std::vector<vtkSmartPointer<vtkTextureObject>> CornerTextures; // per brick
   vtkIdType CornerTextureMemorySize = 0;
   std::string CornerKey; // what they were built from
-  int RayFrameInUse = 0;
-  double RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
-  double RayPixelCentre[2] = { 0.0, 0.0 };
-  int RayPerspective = 0;
 
   // Projections over several bricks (DrawBrickedFrame): the round drawn (0: one brick), each
   // pixel's extremum, the colour, their framebuffer, and the extremum's copy for measurements.

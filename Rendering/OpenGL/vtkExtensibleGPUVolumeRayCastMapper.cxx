@@ -2,22 +2,23 @@
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 
 #include "vtkCamera.h"
+#include "vtkCameraRayModel.h"
 #include "vtkCellData.h"
-#include "vtkIdList.h"
 #include "vtkDataArray.h"
+#include "vtkIdList.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
-#include "vtkOpenGLVolumeBricks.h"
 #include "vtkOpenGLRenderPass.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 #include "vtkRenderer.h"
+#include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
@@ -88,6 +89,7 @@ vtkExtensibleGPUVolumeRayCastMapper::vtkExtensibleGPUVolumeRayCastMapper()
   : Hook(vtkGPURayCastShaderHook::New())
 {
   this->Bricks = vtkOpenGLVolumeBricks::New();
+  this->RayModel = vtkCameraRayModel::New();
   this->Proxy = vtkImageData::New();
   this->Hook->Mapper = this;
   this->AutoAdjustSampleDistances = 0;
@@ -100,6 +102,7 @@ vtkExtensibleGPUVolumeRayCastMapper::~vtkExtensibleGPUVolumeRayCastMapper()
   this->Hook->Mapper = nullptr;
   this->Hook->Delete();
   this->Bricks->Delete();
+  this->RayModel->Delete();
   this->Proxy->Delete();
   this->SetTextureScalars(nullptr);
   this->WidenedTextureScalars(nullptr);
@@ -134,8 +137,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   // VTK draws nothing, with no error but log lines, from a volume texture it cannot create.
   // Bricked frames give VTK only a proxy of each brick's box.
   if (!(plan == DrawWithExtension && this->BrickedThisFrame) &&
-    !this->CheckFrameVolumeTexture(
-      ren, plan == DrawWithExtension ? this->TextureScalars : nullptr))
+    !this->CheckFrameVolumeTexture(ren, plan == DrawWithExtension ? this->TextureScalars : nullptr))
   {
     return;
   }
@@ -177,8 +179,14 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
 }
 
 //------------------------------------------------------------------------------
-bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(
-  vtkRenderer* ren, vtkDataArray* scalars, const int dims[3], int ghostPoints, bool filtered)
+bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(vtkRenderer* ren,
+  vtkDataArray* scalars,
+  const int dims[3],
+  int ghostPoints,
+  int precision,
+  bool filtered,
+  int minimumBytes,
+  int maximumPoints)
 {
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   const int largest = context ? vtkTextureObject::GetMaximumTextureSize3D(context) : 0;
@@ -187,11 +195,17 @@ bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(
   {
     points = std::min(points, this->MaximumBrickSize);
   }
+  if (maximumPoints > 0)
+  {
+    points = std::min(points, std::max(maximumPoints, 2 * ghostPoints + 2));
+  }
   vtkVolumeBrickLayout* layout = this->Bricks->GetLayout();
   layout->SetGhostPoints(ghostPoints);
   layout->SetMaximumBrickPoints(points);
   layout->SetMaximumBrickBytes(static_cast<double>(this->MaximumTextureBytes));
+  this->Bricks->SetPrecision(precision);
   this->Bricks->SetFiltered(filtered);
+  this->Bricks->SetMinimumBytesPerPoint(minimumBytes);
   std::string why;
   if (!this->Bricks->Update(context, scalars, dims, why))
   {
@@ -317,15 +331,17 @@ void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVo
   slot = this->Proxy;
   for (vtkIdType n = 0; n < order->GetNumberOfIds(); ++n)
   {
+    // VTK draws the box of the brick's texture: its own cells and ghosts (the shader decides
+    // which pieces are its own), so that no ray on a face between two bricks misses both.
     this->CurrentBrick = static_cast<int>(order->GetId(n));
-    int cells[6];
-    this->GetBrickCells(cells);
+    int points[6];
+    this->GetBrickPoints(points);
     double origin[3], spacing[3];
     input->TransformContinuousIndexToPhysicalPoint(
-      extent[0] + cells[0], extent[2] + cells[2], extent[4] + cells[4], origin);
+      extent[0] + points[0], extent[2] + points[2], extent[4] + points[4], origin);
     for (int a = 0; a < 3; ++a)
     {
-      spacing[a] = input->GetSpacing()[a] * (cells[2 * a + 1] - cells[2 * a]);
+      spacing[a] = input->GetSpacing()[a] * (points[2 * a + 1] - points[2 * a]);
     }
     this->Proxy->SetOrigin(origin);
     this->Proxy->SetSpacing(spacing);
@@ -396,6 +412,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
   os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
   os << indent << "MaximumBrickSize: " << this->MaximumBrickSize << "\n";
+  os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
   os << indent << "NumberOfBricks: " << this->Bricks->GetNumberOfBricks() << "\n";
 }
 
@@ -435,7 +452,8 @@ bool vtkExtensibleGPUVolumeRayCastMapper::CreateTexture3D(vtkTextureObject* text
   const char* what,
   std::string& why)
 {
-  why = this->CheckTexture3D(context, dims, components * vtkDataArray::GetDataTypeSize(vtkType), what);
+  why =
+    this->CheckTexture3D(context, dims, components * vtkDataArray::GetDataTypeSize(vtkType), what);
   if (why.empty())
   {
     // Errors left by earlier calls are not this upload's.
@@ -471,8 +489,8 @@ bool vtkExtensibleGPUVolumeRayCastMapper::CreateTexture3D(vtkTextureObject* text
 }
 
 //------------------------------------------------------------------------------
-bool vtkExtensibleGPUVolumeRayCastMapper::CheckFrameVolumeTexture(
-  vtkRenderer* ren, vtkDataArray* uploaded)
+bool vtkExtensibleGPUVolumeRayCastMapper::CheckFrameVolumeTexture(vtkRenderer* ren,
+  vtkDataArray* uploaded)
 {
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   int cellFlag = 0;
@@ -836,4 +854,110 @@ bool vtkExtensibleGPUVolumeRayCastMapper::IsConstantOne(vtkPiecewiseFunction* fu
     }
   }
   return n > 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  // VTK's shader reaches a ray's points through float matrices from window to texture space,
+  // with eye-space values of the camera's distance: a ray's points round at the scale of that
+  // distance. The camera model gives each ray's point near the volume and its direction in
+  // double, so float only rounds at the volume's own scale (a brick's, see
+  // SetRayFrameUniforms).
+  this->RayFrameInUse = 0;
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkCamera* camera = ren->GetActiveCamera();
+  int size[2], lowerLeft[2];
+  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &lowerLeft[0], &lowerLeft[1]);
+  if (!input || !camera || size[0] < 1 || size[1] < 1)
+  {
+    return;
+  }
+  this->RayModel->SetCamera(camera);
+  this->RayModel->SetImageSize(size);
+  double frame[5][3];
+  bool perspective = false;
+  // 1e-9 in normalised device coordinates is far below a pixel.
+  if (!this->RayModel->Prepare() || this->RayModel->ComputeProjectionMismatch() > 1e-9 ||
+    !this->RayModel->GetGridRayFrame(
+      input, vol->GetMatrix(), frame[0], frame[1], frame[2], frame[3], frame[4], perspective))
+  {
+    return;
+  }
+  for (int v = 0; v < 5; ++v)
+  {
+    std::copy(frame[v], frame[v] + 3, this->RayFrame[v]);
+  }
+  this->RayPixelCentre[0] = 0.5 * size[0];
+  this->RayPixelCentre[1] = 0.5 * size[1];
+  this->RayPerspective = perspective ? 1 : 0;
+  this->RayFrameInUse = 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::SetRayFrameUniforms(vtkShaderProgram* program)
+{
+  program->SetUniformi("hovr_rayFrameInUse", this->RayFrameInUse);
+  if (!this->RayFrameInUse)
+  {
+    return;
+  }
+  // The brick's frame: grid index from its texture's first point, and the pixel nearest to the
+  // ray through the brick's centre as the frame's centre.
+  int points[6];
+  this->GetBrickPoints(points);
+  const double(*f)[3] = this->RayFrame;
+  double x[3], rhs[3], m[3][3];
+  for (int a = 0; a < 3; ++a)
+  {
+    x[a] = 0.5 * (points[2 * a] + points[2 * a + 1]);
+    // Solve p.x dx + p.y dy - l w = r for the pixel offset p of the ray through x.
+    const double w = this->RayPerspective ? x[a] - f[3][a] : f[4][a];
+    m[a][0] = f[1][a];
+    m[a][1] = f[2][a];
+    m[a][2] = -w;
+    rhs[a] = (this->RayPerspective ? f[3][a] : x[a]) - f[0][a];
+  }
+  double pixel[2] = { 0.0, 0.0 };
+  const double det = vtkMath::Determinant3x3(m);
+  if (std::abs(det) > 0.0)
+  {
+    for (int c = 0; c < 2; ++c)
+    {
+      double mc[3][3];
+      for (int a = 0; a < 3; ++a)
+      {
+        std::copy(m[a], m[a] + 3, mc[a]);
+        mc[a][c] = rhs[a];
+      }
+      const double value = vtkMath::Determinant3x3(mc) / det;
+      pixel[c] = std::isfinite(value) ? std::round(std::max(-1e6, std::min(value, 1e6))) : 0.0;
+    }
+  }
+  float centre[3], eye[3], local[3], localEye[3], dx[3], dy[3], forward[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    centre[a] = static_cast<float>(f[0][a]);
+    eye[a] = static_cast<float>(f[3][a]);
+    local[a] =
+      static_cast<float>(f[0][a] + pixel[0] * f[1][a] + pixel[1] * f[2][a] - points[2 * a]);
+    localEye[a] = static_cast<float>(f[3][a] - points[2 * a]);
+    dx[a] = static_cast<float>(f[1][a]);
+    dy[a] = static_cast<float>(f[2][a]);
+    forward[a] = static_cast<float>(f[4][a]);
+  }
+  const float pixelCentre[2] = { static_cast<float>(this->RayPixelCentre[0]),
+    static_cast<float>(this->RayPixelCentre[1]) };
+  const float localPixelCentre[2] = { static_cast<float>(this->RayPixelCentre[0] + pixel[0]),
+    static_cast<float>(this->RayPixelCentre[1] + pixel[1]) };
+  program->SetUniform3f("hovr_rayCentre", centre);
+  program->SetUniform3f("hovr_rayEye", eye);
+  program->SetUniform2f("hovr_rayPixelCentre", pixelCentre);
+  program->SetUniform3f("hovr_localCentre", local);
+  program->SetUniform3f("hovr_localEye", localEye);
+  program->SetUniform2f("hovr_localPixelCentre", localPixelCentre);
+  program->SetUniform3f("hovr_rayDx", dx);
+  program->SetUniform3f("hovr_rayDy", dy);
+  program->SetUniform3f("hovr_rayForward", forward);
+  program->SetUniformi("hovr_rayPerspective", this->RayPerspective);
 }

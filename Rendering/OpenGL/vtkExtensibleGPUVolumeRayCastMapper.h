@@ -32,6 +32,7 @@
 
 #include <string> // For std::string
 
+class vtkCameraRayModel;
 class vtkGPURayCastShaderHook;
 class vtkImageData;
 class vtkOpenGLVolumeBricks;
@@ -267,13 +268,23 @@ protected:
   /**
    * For methods that draw from hovr's brick textures (vtkOpenGLVolumeBricks) instead of VTK's
    * volume texture: lay out and upload the bricks of the frame's scalars, ghostPoints beyond
-   * each brick's own cells, filtered (linear interpolation, 8-bit data as 16-bit) or not. The
-   * frame is then drawn brick by brick in visibility order, VTK drawing each brick's box; while
-   * a brick is drawn, GetBrickCells(), GetBrickPoints() and GetBrickTexture() describe it and its
-   * texture is active. False after an error (nothing is drawn).
+   * each brick's own cells, at a vtkOpenGLVolumeBricks precision, filtered (linear
+   * interpolation) or not, planned for at least minimumBytes per point (for other arrays in the
+   * same bricks), with at most maximumPoints points an axis when positive (besides
+   * MaximumBrickSize and the GPU's limits). The frame is then drawn brick by brick in
+   * visibility order, VTK drawing each
+   * brick's box; while a brick is drawn, GetBrickCells(), GetBrickPoints() and
+   * GetBrickTexture() describe it and its texture is active. False after an error (nothing is
+   * drawn).
    */
-  bool PrepareBricks(
-    vtkRenderer* ren, vtkDataArray* scalars, const int dims[3], int ghostPoints, bool filtered);
+  bool PrepareBricks(vtkRenderer* ren,
+    vtkDataArray* scalars,
+    const int dims[3],
+    int ghostPoints,
+    int precision,
+    bool filtered,
+    int minimumBytes = 0,
+    int maximumPoints = 0);
   void GetBrickCells(int cells[6]);
   void GetBrickPoints(int points[6]);
 
@@ -291,6 +302,28 @@ protected:
   int GetCurrentBrick() const { return this->CurrentBrick; }
   vtkOpenGLVolumeBricks* GetBricks() { return this->Bricks; }
   bool GetBrickedThisFrame() const { return this->BrickedThisFrame; }
+
+  /**
+   * The rays of this frame as an affine frame in the volume's grid index (vtkCameraRayModel's
+   * GetGridRayFrame, in double), when the model describes the camera (RayFrameInUse); cameras
+   * it does not (window centre, view shear, explicit projection) leave RayFrameInUse 0.
+   */
+  void UpdateRayFrame(vtkRenderer* ren, vtkVolume* vol);
+
+  /**
+   * The rays' uniforms: hovr_rayFrameInUse; the volume's frame, the same for every brick
+   * (hovr_rayCentre, hovr_rayEye, hovr_rayPixelCentre, grid index of the volume); the brick
+   * drawn's (hovr_localCentre, hovr_localEye, hovr_localPixelCentre: its texture's grid index,
+   * centred on the pixel nearest to the brick's centre, so that float positions round at the
+   * brick's scale); hovr_rayDx, hovr_rayDy, hovr_rayForward and hovr_rayPerspective.
+   */
+  void SetRayFrameUniforms(vtkShaderProgram* program);
+
+  vtkCameraRayModel* RayModel;
+  int RayFrameInUse = 0;
+  double RayFrame[5][3] = {}; // centre, dx, dy, eye, forward (see GetGridRayFrame)
+  double RayPixelCentre[2] = { 0.0, 0.0 };
+  int RayPerspective = 0;
 
   /**
    * Mark the extension's GLSL as changed: the program is rebuilt on the next draw.

@@ -29,16 +29,25 @@ struct Format
   double Factor;
 };
 
-Format FormatOf(int type, bool filtered)
+Format FormatOf(int type, int precision, int components)
 {
-  const bool signedChar = type == VTK_SIGNED_CHAR ||
-    (type == VTK_CHAR && static_cast<char>(-1) < 0);
+  if (components == 3)
+  {
+    return Format{ GL_RGB32F, GL_FLOAT, 12, true, 0.0, 1.0 };
+  }
+  const bool signedChar =
+    type == VTK_SIGNED_CHAR || (type == VTK_CHAR && static_cast<char>(-1) < 0);
   const bool unsignedChar = type == VTK_UNSIGNED_CHAR || (type == VTK_CHAR && !signedChar);
+  if (precision == vtkOpenGLVolumeBricks::FLOAT32 || components != 1)
+  {
+    return Format{ GL_R32F, GL_FLOAT, 4, true, 0.0, 1.0 };
+  }
   if (unsignedChar || signedChar)
   {
     const double offset = signedChar ? 128.0 : 0.0;
-    return filtered ? Format{ GL_R16, GL_UNSIGNED_SHORT, 2, false, offset, 257.0 }
-                    : Format{ GL_R8, GL_UNSIGNED_BYTE, 1, false, offset, 1.0 };
+    return precision == vtkOpenGLVolumeBricks::WIDE
+      ? Format{ GL_R16, GL_UNSIGNED_SHORT, 2, false, offset, 257.0 }
+      : Format{ GL_R8, GL_UNSIGNED_BYTE, 1, false, offset, 1.0 };
   }
   if (type == VTK_UNSIGNED_SHORT)
   {
@@ -51,13 +60,20 @@ Format FormatOf(int type, bool filtered)
   return Format{ GL_R32F, GL_FLOAT, 4, true, 0.0, 1.0 };
 }
 
-// One slice (points x0..x1, y0..y1 at z) of component 0 into texels of type Out.
+// One slice (points x0..x1, y0..y1 at z) of `components` components into texels of type Out.
 template <typename Out>
-void FillSlice(vtkDataArray* scalars, const int dims[3], const int points[6], int z,
-  const Format& format, double shift, double scale, std::vector<Out>& slice)
+void FillSlice(vtkDataArray* scalars,
+  const int dims[3],
+  const int points[6],
+  int z,
+  int components,
+  const Format& format,
+  double shift,
+  double scale,
+  std::vector<Out>& slice)
 {
   const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
-  slice.resize(static_cast<size_t>(w) * h);
+  slice.resize(static_cast<size_t>(w) * h * components);
   const vtkIdType row = dims[0], plane = static_cast<vtkIdType>(dims[0]) * dims[1];
   Out* out = slice.data();
   for (int y = points[2]; y <= points[3]; ++y)
@@ -65,14 +81,17 @@ void FillSlice(vtkDataArray* scalars, const int dims[3], const int points[6], in
     const vtkIdType base = points[0] + row * y + plane * z;
     for (int x = 0; x < w; ++x)
     {
-      const double v = scalars->GetComponent(base + x, 0);
-      if (format.Float)
+      for (int c = 0; c < components; ++c)
       {
-        *out++ = static_cast<Out>((v - shift) / scale);
-      }
-      else
-      {
-        *out++ = static_cast<Out>(std::lround((v + format.Offset) * format.Factor));
+        const double v = scalars->GetComponent(base + x, c);
+        if (format.Float)
+        {
+          *out++ = static_cast<Out>((v - shift) / scale);
+        }
+        else
+        {
+          *out++ = static_cast<Out>(std::lround((v + format.Offset) * format.Factor));
+        }
       }
     }
   }
@@ -92,34 +111,44 @@ vtkTextureObject* vtkOpenGLVolumeBricks::GetTexture(int brick) const
 }
 
 //------------------------------------------------------------------------------
-bool vtkOpenGLVolumeBricks::Update(
-  vtkOpenGLRenderWindow* context, vtkDataArray* scalars, const int dims[3], std::string& why)
+bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
+  vtkDataArray* scalars,
+  const int dims[3],
+  std::string& why,
+  vtkVolumeBrickLayout* shared)
 {
   why.clear();
   const int type = scalars->GetDataType();
-  const Format format = FormatOf(type, this->Filtered);
-  vtkVolumeBrickLayout* layout = this->Layout;
+  const int components = scalars->GetNumberOfComponents() == 3 ? 3 : 1;
+  const Format format = FormatOf(type, this->Precision, components);
+  vtkVolumeBrickLayout* layout = shared ? shared : this->Layout.Get();
   std::ostringstream key;
-  key << type << " " << this->Filtered << " " << dims[0] << " " << dims[1] << " " << dims[2]
-      << " " << layout->GetGhostPoints() << " " << layout->GetMaximumBrickPoints() << " "
-      << layout->GetMaximumBrickBytes() << " " << context;
+  key << type << " " << components << " " << this->Precision << " " << this->Filtered << " "
+      << dims[0] << " " << dims[1] << " " << dims[2] << " " << layout->GetGhostPoints() << " "
+      << layout->GetMaximumBrickPoints() << " " << layout->GetMaximumBrickBytes() << " "
+      << this->MinimumBytesPerPoint << " " << layout->GetNumberOfBricks() << " " << context;
   if (key.str() == this->Key && scalars == this->Scalars &&
     scalars->GetMTime() == this->ScalarsTime && !this->Textures.empty())
   {
     return true;
   }
   this->ReleaseGraphicsResources(context);
-  layout->SetDimensions(dims[0], dims[1], dims[2]);
-  layout->SetBytesPerPoint(format.Bytes);
-  if (!layout->Update())
+  if (!shared)
   {
-    why = "the volume cannot be split into bricks within the texture limits";
-    return false;
+    layout->SetDimensions(dims[0], dims[1], dims[2]);
+    layout->SetBytesPerPoint(std::max(format.Bytes, this->MinimumBytesPerPoint));
+    if (!layout->Update())
+    {
+      why = "the volume cannot be split into bricks within the texture limits";
+      return false;
+    }
   }
 
   // The raw -> data map of the format (the range only for rescaled types).
   double shift = 0.0, scale = 1.0;
-  if (format.Float && type != VTK_FLOAT)
+  const bool exactInFloat = type == VTK_FLOAT || type == VTK_UNSIGNED_CHAR ||
+    type == VTK_SIGNED_CHAR || type == VTK_CHAR || type == VTK_UNSIGNED_SHORT || type == VTK_SHORT;
+  if (format.Float && !(exactInFloat || components == 3))
   {
     double range[2];
     scalars->GetFiniteRange(range, 0);
@@ -158,12 +187,12 @@ bool vtkOpenGLVolumeBricks::Update(
     vtkNew<vtkTextureObject> texture;
     texture->SetContext(context);
     texture->SetInternalFormat(format.InternalFormat);
-    texture->SetFormat(GL_RED);
+    texture->SetFormat(components == 3 ? GL_RGB : GL_RED);
     texture->SetDataType(format.GLType);
     const int vtkType = format.Float ? VTK_FLOAT
       : format.Bytes == 1            ? VTK_UNSIGNED_CHAR
                                      : VTK_UNSIGNED_SHORT;
-    bool ok = texture->Create3DFromRaw(size[0], size[1], size[2], 1, vtkType, nullptr);
+    bool ok = texture->Create3DFromRaw(size[0], size[1], size[2], components, vtkType, nullptr);
     GLenum error = glGetError();
     if (ok && error == GL_NO_ERROR)
     {
@@ -175,21 +204,30 @@ bool vtkOpenGLVolumeBricks::Update(
           const void* data = nullptr;
           if (format.Float)
           {
-            FillSlice(scalars, dims, points, z, format, shift, scale, floats);
+            FillSlice(scalars, dims, points, z, components, format, shift, scale, floats);
             data = floats.data();
           }
           else if (format.Bytes == 2)
           {
-            FillSlice(scalars, dims, points, z, format, shift, scale, shorts);
+            FillSlice(scalars, dims, points, z, components, format, shift, scale, shorts);
             data = shorts.data();
           }
           else
           {
-            FillSlice(scalars, dims, points, z, format, shift, scale, bytes);
+            FillSlice(scalars, dims, points, z, components, format, shift, scale, bytes);
             data = bytes.data();
           }
-          glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z - points[4], size[0], size[1], 1, GL_RED,
-            format.GLType, data);
+          glTexSubImage3D(GL_TEXTURE_3D,
+            0,
+            0,
+            0,
+            z - points[4],
+            size[0],
+            size[1],
+            1,
+            components == 3 ? GL_RGB : GL_RED,
+            format.GLType,
+            data);
         }
       }
       catch (const std::bad_alloc&)
@@ -250,7 +288,9 @@ void vtkOpenGLVolumeBricks::ReleaseGraphicsResources(vtkWindow* window)
 void vtkOpenGLVolumeBricks::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Precision: " << this->Precision << "\n";
   os << indent << "Filtered: " << this->Filtered << "\n";
+  os << indent << "MinimumBytesPerPoint: " << this->MinimumBytesPerPoint << "\n";
   os << indent << "NumberOfBricks: " << this->GetNumberOfBricks() << "\n";
   os << indent << "MemorySize: " << this->MemorySize << "\n";
   os << indent << "UploadCount: " << this->UploadCount << "\n";

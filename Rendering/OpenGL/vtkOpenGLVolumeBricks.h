@@ -9,12 +9,14 @@
  * Each texture is filled slice by slice from the scalar array itself, so no copy of the volume
  * is made on the CPU.
  *
- * Formats: float scalars as they are (R32F); 8-bit scalars as 16-bit normalised values
- * (R16; linear filtering of 8-bit textures interpolates at 8-bit precision on common GPUs and
- * llvmpipe) or, when the samples are read without filtering (Filtered off), as they are (R8);
- * 16-bit scalars as R16; other types as R32F values rescaled to [0, 1] over the finite range.
- * GetValueMapping() gives data = raw * scale + shift for the raw value a sampler returns; a
- * signed type is offset to unsigned first. NaN reaches the texture only through R32F.
+ * Formats (Precision): float scalars as they are (R32F); 8-bit scalars as they are (R8,
+ * NATIVE) or as 16-bit normalised values (R16, WIDE: linear filtering of 8-bit textures
+ * interpolates at 8-bit precision on common GPUs and llvmpipe); 16-bit scalars as R16; other
+ * types as R32F values rescaled to [0, 1] over the finite range; with FLOAT32 every type as
+ * R32F values (integers as they are). GetValueMapping() gives data = raw * scale + shift for
+ * the raw value a sampler returns; a signed integer type is offset to unsigned first. NaN
+ * reaches the texture only through R32F. Arrays of 3 components (normals) are uploaded as
+ * RGB32F, as they are.
  *
  * A value class of hovr's mappers (a vtkObject for reference counting), not wrapped.
  */
@@ -22,8 +24,8 @@
 #define vtkOpenGLVolumeBricks_h
 
 #include "hovrRenderingOpenGLModule.h" // For export macro
+#include "vtkNew.h"                    // For ivar
 #include "vtkObject.h"
-#include "vtkNew.h"       // For ivar
 #include "vtkSmartPointer.h" // For ivar
 
 #include <string> // For std::string
@@ -42,13 +44,37 @@ public:
   vtkTypeMacro(vtkOpenGLVolumeBricks, vtkObject);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  enum Precisions
+  {
+    NATIVE = 0, ///< 8- and 16-bit integers in their own size
+    WIDE = 1,   ///< 8-bit integers in 16 bits
+    FLOAT32 = 2 ///< every type as 32-bit floats
+  };
+
   ///@{
   /**
-   * Whether the samples are filtered (linear interpolation by the texture unit): 8-bit data
-   * then go up as 16-bit. Initial value is true.
+   * Texel precision (see the class documentation). Initial value is WIDE.
+   */
+  vtkSetClampMacro(Precision, int, NATIVE, FLOAT32);
+  vtkGetMacro(Precision, int);
+  ///@}
+
+  ///@{
+  /**
+   * Whether the texture unit interpolates (linear filtering) or reads texels (nearest).
+   * Initial value is true.
    */
   vtkSetMacro(Filtered, bool);
   vtkGetMacro(Filtered, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The layout plans bricks for at least this many bytes per point, so that arrays of other
+   * formats (normals) can be uploaded in the same bricks. Initial value is 0.
+   */
+  vtkSetClampMacro(MinimumBytesPerPoint, int, 0, 64);
+  vtkGetMacro(MinimumBytesPerPoint, int);
   ///@}
 
   /**
@@ -58,12 +84,17 @@ public:
   vtkVolumeBrickLayout* GetLayout() { return this->Layout; }
 
   /**
-   * Lay out and upload the bricks of these scalars (component 0, point data) on a grid of dims
-   * points, unless they, the layout settings and the format are those of the last upload.
-   * False, with the reason in why and no textures, when a brick cannot be created.
+   * Lay out and upload the bricks of these scalars (component 0, or all 3 of a 3-component
+   * array; point data) on a grid of dims points, unless they, the layout settings and the
+   * format are those of the last upload. With a layout, its bricks instead of the own
+   * layout's (another array of the same volume). False, with the reason in why and no
+   * textures, when a brick cannot be created.
    */
-  bool Update(vtkOpenGLRenderWindow* context, vtkDataArray* scalars, const int dims[3],
-    std::string& why);
+  bool Update(vtkOpenGLRenderWindow* context,
+    vtkDataArray* scalars,
+    const int dims[3],
+    std::string& why,
+    vtkVolumeBrickLayout* layout = nullptr);
 
   int GetNumberOfBricks() const { return static_cast<int>(this->Textures.size()); }
   vtkTextureObject* GetTexture(int brick) const;
@@ -97,7 +128,9 @@ private:
   vtkOpenGLVolumeBricks(const vtkOpenGLVolumeBricks&) = delete;
   void operator=(const vtkOpenGLVolumeBricks&) = delete;
 
+  int Precision = WIDE;
   bool Filtered = true;
+  int MinimumBytesPerPoint = 0;
   vtkNew<vtkVolumeBrickLayout> Layout;
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures;
   double Scale = 1.0;

@@ -1,15 +1,20 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationVolumeMapper.h"
 
+#include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLPreIntegrationTableBuilder.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkPreIntegrationTableSizer.h"
 #include "vtkRenderer.h"
@@ -29,6 +34,7 @@
 #include "hovrPreIntegrationCommon.h"  // the GLSL both orders share
 #include "hovrPreIntegrationShading.h" // the GLSL of shaded first-order segments
 #include "hovrSlabExtremum.h"          // the slab's extremum, shared with the table builder
+#include "hovrWindow.h"                // window to texture coordinates
 
 #include <algorithm>
 #include <cmath>
@@ -53,7 +59,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , TableSizer(vtkPreIntegrationTableSizer::New())
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
-  , NormalTexture(vtkTextureObject::New())
+  , NormalBricks(vtkOpenGLVolumeBricks::New())
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
 {
@@ -69,7 +75,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
-  this->NormalTexture->Delete();
+  this->NormalBricks->Delete();
   this->SetNormalArrayName(nullptr);
 }
 
@@ -177,6 +183,23 @@ const char* vtkPreIntegrationVolumeMapper::GetStockFallbackReason(vtkRenderer* r
   {
     return this->FallbackReason.c_str();
   }
+  int cellFlag = 0;
+  vtkAbstractMapper::GetScalars(this->GetInput(),
+    this->ScalarMode,
+    this->ArrayAccessMode,
+    this->ArrayId,
+    this->ArrayName,
+    cellFlag);
+  if (cellFlag)
+  {
+    return "pre-integration interpolates point scalars; these are cell scalars";
+  }
+  this->UpdateRayFrame(ren, vol);
+  if (!this->RayFrameInUse)
+  {
+    return "pre-integration casts the rays of vtkCameraRayModel, which does not describe this "
+           "camera (a window centre, a view shear or an explicit projection)";
+  }
   if (vol->GetProperty()->GetShade(0))
   {
     vtkNew<vtkVolumeShadingModel> lights;
@@ -256,10 +279,53 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   const bool secondOrder = this->Integration == SECOND_ORDER;
   vtkSecondOrderPreIntegrationTable* table = this->GetActiveTable();
   const int layers = this->PrepareShading(ren, vol);
-  if (layers < 0 || (layers > 0 && !this->UploadNormals(ren, dims)))
+  if (layers < 0)
   {
     return DrawNothing;
   }
+  // The bricks: a piece whose front lies in a brick ends at most one piece (one or two sample
+  // distances) past its faces, where the trilinear sample reads the next point and a gradient
+  // one more.
+  const bool normals = layers > 0 && this->NormalArrayName && *this->NormalArrayName;
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkNew<vtkMatrix4x4> worldToObject, worldToIndex;
+  vtkMatrix4x4::Invert(vol->GetMatrix(), worldToObject);
+  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), worldToObject, worldToIndex);
+  double reach = 0.0; // index units per world unit, at most
+  for (int r = 0; r < 3; ++r)
+  {
+    reach = std::max(reach,
+      std::abs(worldToIndex->GetElement(r, 0)) + std::abs(worldToIndex->GetElement(r, 1)) +
+        std::abs(worldToIndex->GetElement(r, 2)));
+  }
+  const double span = (this->Integration == SECOND_ORDER ? 2.0 : 1.0) * this->SampleDistance;
+  const int ghosts =
+    static_cast<int>(std::min(std::ceil(span * reach), 1e6)) + 1 + (layers > 0 && !normals ? 1 : 0);
+  const int precision = this->VolumePrecision == VOLUME_PRECISION_NATIVE
+    ? vtkOpenGLVolumeBricks::NATIVE
+    : this->VolumePrecision == VOLUME_PRECISION_FLOAT32 ? vtkOpenGLVolumeBricks::FLOAT32
+                                                        : vtkOpenGLVolumeBricks::WIDE;
+  // llvmpipe stops a fragment's loops after 65535 iterations in all: a brick holds at most
+  // 60000 pieces along any ray (its diagonal over the step).
+  vtkNew<vtkMatrix4x4> indexToWorld;
+  vtkMatrix4x4::Invert(worldToIndex, indexToWorld);
+  double longest = 0.0; // world length of one index step, at most
+  for (int a = 0; a < 3; ++a)
+  {
+    const double column[3] = {
+      indexToWorld->GetElement(0, a), indexToWorld->GetElement(1, a), indexToWorld->GetElement(2, a)
+    };
+    longest = std::max(longest, vtkMath::Norm(column));
+  }
+  const double pieceLimit = 60000.0 * this->SampleDistance / (std::sqrt(3.0) * longest);
+  const int maximumPoints = static_cast<int>(std::min(pieceLimit, 1e6));
+  if (!this->PrepareBricks(
+        ren, scalars, dims, ghosts, precision, true, normals ? 12 : 0, maximumPoints) ||
+    (layers > 0 && !this->UploadNormals(ren, dims)))
+  {
+    return DrawNothing;
+  }
+  this->PrepareRayGeometry(ren, vol);
   // Second order keeps the moments of both halves of a slab (SlabMoments).
   if (secondOrder)
   {
@@ -295,8 +361,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
 
   // raw texture value -> data value -> table texture coordinate (entries at texel centres).
   double scale, shift;
-  vtkPreIntegrationVolumeMapper::GetTextureValueMapping(
-    this->ChooseTextureScalars(scalars), scale, shift);
+  this->GetBricks()->GetValueMapping(scale, shift);
   const int size = table->GetTableSize();
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
@@ -311,6 +376,120 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   this->DeviationScale =
     static_cast<float>(scaleOf(table->GetDeviationSize(), table->GetEffectiveDeviationRange()));
   return DrawWithExtension;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::PrepareRayGeometry(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkCamera* camera = ren->GetActiveCamera();
+  // Grid index (0-based) -> data coordinates -> world.
+  vtkNew<vtkMatrix4x4> indexToObject, indexToWorld;
+  indexToObject->DeepCopy(input->GetIndexToPhysicalMatrix());
+  const int* extent = input->GetExtent();
+  for (int r = 0; r < 3; ++r)
+  {
+    double shifted = indexToObject->GetElement(r, 3);
+    for (int a = 0; a < 3; ++a)
+    {
+      shifted += indexToObject->GetElement(r, a) * extent[2 * a];
+    }
+    indexToObject->SetElement(r, 3, shifted);
+  }
+  vtkMatrix4x4::Multiply4x4(vol->GetMatrix(), indexToObject, indexToWorld);
+  double linear[3][3], inverse[3][3];
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      // GLSL matrices are column-major: element (r, a) at a * 3 + r.
+      this->IndexToWorld[3 * a + r] = static_cast<float>(indexToWorld->GetElement(r, a));
+      this->IndexToObject[3 * a + r] = static_cast<float>(indexToObject->GetElement(r, a));
+      linear[r][a] = indexToObject->GetElement(r, a);
+    }
+  }
+  vtkMath::Invert3x3(linear, inverse);
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      // (M^-1)^T: element (r, a) is inverse[a][r].
+      this->GradientToObject[3 * a + r] = static_cast<float>(inverse[a][r]);
+    }
+  }
+  double direction[3], position[3];
+  camera->GetDirectionOfProjection(direction);
+  camera->GetPosition(position);
+  for (int a = 0; a < 3; ++a)
+  {
+    this->ViewDirection[a] = static_cast<float>(direction[a]);
+  }
+  this->Near = static_cast<float>(camera->GetClippingRange()[0]);
+  // Parallel rays: the t of the frame's centre plane, its distance from the camera's plane.
+  double centre[4] = { this->RayFrame[0][0], this->RayFrame[0][1], this->RayFrame[0][2], 1.0 };
+  indexToWorld->MultiplyPoint(centre, centre);
+  this->PlaneT =
+    static_cast<float>(vtkMath::Dot(direction, centre) - vtkMath::Dot(direction, position));
+
+  // Cropping planes (data coordinates along the axes) and clipping planes (world), in grid
+  // index.
+  vtkNew<vtkMatrix4x4> worldToIndex;
+  vtkMatrix4x4::Invert(indexToWorld, worldToIndex);
+  this->CroppingRegions = this->CroppingRegionFlags;
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int side = 0; side < 2; ++side)
+    {
+      double point[4] = { 0, 0, 0, 1 }, index[4];
+      for (int b = 0; b < 3; ++b)
+      {
+        point[b] = b == a ? this->CroppingRegionPlanes[2 * a + side] : 0.0;
+      }
+      vtkNew<vtkMatrix4x4> objectToIndex;
+      vtkMatrix4x4::Invert(indexToObject, objectToIndex);
+      objectToIndex->MultiplyPoint(point, index);
+      this->CroppingPlanes[2 * a + side] = static_cast<float>(index[a]);
+    }
+  }
+  this->ClippingCount = 0;
+  vtkPlaneCollection* planes = this->GetClippingPlanes();
+  const int count = planes ? planes->GetNumberOfItems() : 0;
+  if (count > 6)
+  {
+    vtkWarningMacro("Pre-integration clips with the first 6 of " << count << " planes.");
+  }
+  for (int i = 0; i < std::min(count, 6); ++i)
+  {
+    vtkPlane* plane = planes->GetItem(i);
+    // Kept: n . (p_world - o) >= 0 with p_world = W p + w0: (W^T n) . p + n . (w0 - o).
+    double n[3], o[3];
+    plane->GetNormal(n);
+    plane->GetOrigin(o);
+    double coefficients[4] = { 0, 0, 0, 0 };
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        coefficients[a] += indexToWorld->GetElement(r, a) * n[r];
+      }
+      coefficients[3] += n[a] * (indexToWorld->GetElement(a, 3) - o[a]);
+    }
+    for (int c = 0; c < 4; ++c)
+    {
+      this->ClippingPlanes[i][c] = static_cast<float>(coefficients[c]);
+    }
+    ++this->ClippingCount;
+  }
+  std::ostringstream switches;
+  switches << "#define HOVR_ORDER " << (this->Integration == SECOND_ORDER ? 2 : 1) << "\n"
+           << "#define HOVR_JITTER " << (this->UseJittering ? 1 : 0) << "\n"
+           << "#define HOVR_CLIPPING " << (this->ClippingCount > 0 ? 1 : 0) << "\n"
+           << "#define HOVR_CROPPING " << (this->Cropping ? 1 : 0) << "\n";
+  if (switches.str() != this->RaySwitches)
+  {
+    this->RaySwitches = switches.str();
+    this->ExtensionShaderModified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -356,9 +535,10 @@ int vtkPreIntegrationVolumeMapper::PrepareShading(vtkRenderer* ren, vtkVolume* v
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationVolumeMapper::UploadNormals(vtkRenderer* ren, const int dims[3])
 {
+  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   if (!this->NormalArrayName || !*this->NormalArrayName)
   {
-    this->NormalTexture->ReleaseGraphicsResources(ren->GetRenderWindow());
+    this->NormalBricks->ReleaseGraphicsResources(context);
     this->UploadedNormals = nullptr;
     this->NormalTextureMemorySize = 0;
     return true;
@@ -373,33 +553,16 @@ bool vtkPreIntegrationVolumeMapper::UploadNormals(vtkRenderer* ren, const int di
                                           "per point of the volume; not drawing.");
     return false;
   }
-  vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  if (this->NormalTexture->GetContext() == context && this->UploadedNormals == normals &&
-    this->UploadedNormalsTime == normals->GetMTime() && this->NormalTexture->GetHandle() != 0)
-  {
-    return true;
-  }
-  vtkNew<vtkFloatArray> values; // float, whatever the array's type
-  values->DeepCopy(normals);
-  this->NormalTexture->ReleaseGraphicsResources(context);
-  this->NormalTexture->SetInternalFormat(GL_RGB32F);
-  this->NormalTexture->SetFormat(GL_RGB);
-  this->NormalTexture->SetDataType(GL_FLOAT);
+  // In the volume's bricks (their layout was planned for 12 bytes per point).
+  this->NormalBricks->SetPrecision(vtkOpenGLVolumeBricks::FLOAT32);
   std::string why;
-  if (!this->CreateTexture3D(this->NormalTexture, context, dims, 3, VTK_FLOAT,
-        values->GetVoidPointer(0), "normal texture", why))
+  if (!this->NormalBricks->Update(context, normals, dims, why, this->GetBricks()->GetLayout()))
   {
-    vtkErrorMacro(<< why << "; not drawing.");
+    vtkErrorMacro("The normals cannot be uploaded: " << why << "; not drawing.");
     return false;
   }
-  this->NormalTexture->SetWrapS(vtkTextureObject::ClampToEdge);
-  this->NormalTexture->SetWrapT(vtkTextureObject::ClampToEdge);
-  this->NormalTexture->SetWrapR(vtkTextureObject::ClampToEdge);
-  this->NormalTexture->SetMinificationFilter(vtkTextureObject::Linear);
-  this->NormalTexture->SetMagnificationFilter(vtkTextureObject::Linear);
   this->UploadedNormals = normals;
-  this->UploadedNormalsTime = normals->GetMTime();
-  this->NormalTextureMemorySize = points * 3 * static_cast<vtkIdType>(sizeof(float));
+  this->NormalTextureMemorySize = this->NormalBricks->GetMemorySize();
   return true;
 }
 
@@ -509,39 +672,6 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* vtkPreIntegrationVolumeMapper::ChooseTextureScalars(vtkDataArray* scalars)
-{
-  // The copy holds the same values, so VTK's own scalar range and lookup tables stay those of
-  // the data; only the texel format changes (VTK uploads 16-bit integers as 16-bit textures).
-  const int precision = this->VolumePrecision;
-  vtkDataArray* widened = nullptr;
-  if (precision == VOLUME_PRECISION_AUTOMATIC || precision == VOLUME_PRECISION_16BIT)
-  {
-    widened = this->WidenedTextureScalars(scalars);
-  }
-  else if (precision == VOLUME_PRECISION_FLOAT32)
-  {
-    widened = this->WidenedTextureScalars(scalars, VTK_FLOAT);
-  }
-  else
-  {
-    this->WidenedTextureScalars(nullptr); // native: release any copy
-  }
-  vtkDataArray* uploaded = widened ? widened : scalars;
-  this->SetTextureScalars(widened);
-  const vtkIdType values = scalars->GetNumberOfValues();
-  const int uploadedType = uploaded->GetDataType();
-  const int bytes =
-    uploadedType == VTK_UNSIGNED_CHAR || uploadedType == VTK_SIGNED_CHAR || uploadedType == VTK_CHAR
-    ? 1
-    : uploadedType == VTK_UNSIGNED_SHORT || uploadedType == VTK_SHORT ? 2
-                                                                      : 4;
-  this->VolumeTextureMemorySize = values * bytes;
-  this->VolumeCopyMemorySize = uploaded == scalars ? 0 : values * bytes;
-  return uploaded;
-}
-
-//------------------------------------------------------------------------------
 bool vtkPreIntegrationVolumeMapper::BuildOnGPU(vtkOpenGLRenderWindow* context)
 {
   if (this->TableBuilder != BUILD_AUTOMATIC)
@@ -604,7 +734,8 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     const int size3[3] = { n, nb, depth };
     std::string why;
     const bool created = volume
-      ? this->CreateTexture3D(this->TableTexture, context, size3, 4, VTK_FLOAT, data, "table texture", why)
+      ? this->CreateTexture3D(
+          this->TableTexture, context, size3, 4, VTK_FLOAT, data, "table texture", why)
       : this->TableTexture->Create2DFromRaw(n, rows, 4, VTK_FLOAT, data);
     if (!created)
     {
@@ -649,7 +780,7 @@ void vtkPreIntegrationVolumeMapper::ActivateExtensionTextures()
   this->EmptyRunsTexture->Activate();
   if (this->UploadedNormals)
   {
-    this->NormalTexture->Activate();
+    this->NormalBricks->GetTexture(this->GetCurrentBrick())->Activate();
   }
 }
 
@@ -660,7 +791,7 @@ void vtkPreIntegrationVolumeMapper::DeactivateExtensionTextures()
   this->EmptyRunsTexture->Deactivate();
   if (this->UploadedNormals)
   {
-    this->NormalTexture->Deactivate();
+    this->NormalBricks->GetTexture(this->GetCurrentBrick())->Deactivate();
   }
 }
 
@@ -675,26 +806,28 @@ bool vtkPreIntegrationVolumeMapper::ReplaceExtensionShaderValues(std::string&,
     "//VTK::Termination::Dec",
     "uniform float hovr_opacityThreshold;\n#define g_opacityThreshold hovr_opacityThreshold",
     Self::ReplaceTag);
+  // The whole ray is walked where VTK would initialise its loop, which then never runs.
   ok = ok &&
-    Self::ReplaceShaderTag(
-      fragmentShader, "//VTK::Shading::Init", "hovr_preintInit();", Self::ReplaceTag);
-  ok = ok &&
-    Self::ReplaceShaderTag(
-      fragmentShader, "//VTK::Shading::Impl", "hovr_preintStep();", Self::ReplaceTag);
-  ok = ok &&
-    Self::ReplaceShaderTag(
-      fragmentShader, "//VTK::Shading::Exit", "hovr_preintExit();", Self::ReplaceTag);
+    Self::ReplaceShaderTag(fragmentShader,
+      "//VTK::Shading::Init",
+      "hovr_preintRay();\n  g_exit = true;",
+      Self::ReplaceTag);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Impl", "", Self::ReplaceTag);
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Shading::Exit", "", Self::ReplaceTag);
+  // The rays are clipped here (HOVR_CLIPPING): VTK's clipping of each brick's 2-point box would
+  // mix its texture coordinates of two kinds and discard rays it should keep.
+  ok = ok && Self::ReplaceShaderTag(fragmentShader, "//VTK::Clipping::Init", "", Self::ReplaceTag);
   // Declared late, after every uniform and global the functions use; the switches of the
   // GLSL first.
   const bool shaded = !this->ShadingSwitches.empty();
   const std::string switches = std::string("#define HOVR_SKIP_EMPTY ") +
     (this->SkipEmptySegments ? "1" : "0") + "\n#define HOVR_SHADED " + (shaded ? "1" : "0") + "\n" +
-    this->ShadingSwitches;
+    this->RaySwitches + this->ShadingSwitches;
   // Shading calls computeRayDirection(): declared after it.
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
-      switches + hovrPreIntegrationCommon +
+      switches + hovrWindow + hovrPreIntegrationCommon +
         (shaded ? std::string(hovrPreIntegrationShading) : std::string()) +
         (this->Integration == SECOND_ORDER ? std::string(hovrSlabExtremum) + hovrPreIntegration2
                                            : std::string(hovrPreIntegration1)),
@@ -720,6 +853,49 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
     program->SetUniformf("hovr_deviationScale", this->DeviationScale);
   }
   program->SetUniformf("hovr_opacityThreshold", static_cast<float>(this->OpacityThreshold));
+  // The brick and the rays.
+  program->SetUniformi("hovr_volume", this->GetBrickTexture()->GetTextureUnit());
+  int points[6], cells[6];
+  this->GetBrickPoints(points);
+  this->GetBrickCells(cells);
+  int dims[3];
+  vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(dims);
+  float invTexels[3], first[3], last[3], ownedMin[3], ownedMax[3], volumeMax[3], origin[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    invTexels[a] = 1.0f / static_cast<float>(points[2 * a + 1] - points[2 * a] + 1);
+    first[a] = static_cast<float>(-points[2 * a]);
+    last[a] = static_cast<float>(dims[a] - 1 - points[2 * a]);
+    ownedMin[a] = static_cast<float>(cells[2 * a]);
+    ownedMax[a] = static_cast<float>(cells[2 * a + 1]);
+    volumeMax[a] = static_cast<float>(dims[a] - 1);
+    origin[a] = static_cast<float>(points[2 * a]);
+  }
+  program->SetUniform3f("hovr_volumeInvTexels", invTexels);
+  program->SetUniform3f("hovr_volumeFirst", first);
+  program->SetUniform3f("hovr_volumeLast", last);
+  program->SetUniform3f("hovr_ownedMin", ownedMin);
+  program->SetUniform3f("hovr_ownedMax", ownedMax);
+  program->SetUniform3f("hovr_volumeMax", volumeMax);
+  program->SetUniform3f("hovr_brickOrigin", origin);
+  this->SetRayFrameUniforms(program);
+  program->SetUniformf("hovr_planeT", this->PlaneT);
+  program->SetUniformMatrix3x3("hovr_indexToWorld", this->IndexToWorld);
+  program->SetUniformMatrix3x3("hovr_indexToObject", this->IndexToObject);
+  program->SetUniformMatrix3x3("hovr_gradientToObject", this->GradientToObject);
+  program->SetUniform3f("hovr_viewDirection", this->ViewDirection);
+  program->SetUniformf("hovr_near", this->Near);
+  program->SetUniformf("hovr_step", static_cast<float>(this->SampleDistance));
+  if (this->Cropping)
+  {
+    program->SetUniform1fv("hovr_croppingPlanes", 6, this->CroppingPlanes);
+    program->SetUniformi("hovr_croppingRegions", this->CroppingRegions);
+  }
+  if (this->ClippingCount > 0)
+  {
+    program->SetUniformi("hovr_clippingCount", this->ClippingCount);
+    program->SetUniform4fv("hovr_clippingPlanes", 6, this->ClippingPlanes);
+  }
   if (!this->ShadingSwitches.empty())
   {
     this->SetShadingParameters(program);
@@ -749,7 +925,8 @@ void vtkPreIntegrationVolumeMapper::SetShadingParameters(vtkShaderProgram* progr
   }
   if (this->UploadedNormals)
   {
-    program->SetUniformi("hovr_normals", this->NormalTexture->GetTextureUnit());
+    program->SetUniformi(
+      "hovr_normals", this->NormalBricks->GetTexture(this->GetCurrentBrick())->GetTextureUnit());
   }
   program->SetUniformf(
     "hovr_chordTexels", static_cast<float>(this->GetActiveTable()->GetChordSize()));
@@ -789,7 +966,7 @@ void vtkPreIntegrationVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   this->TableTexture->ReleaseGraphicsResources(window);
   this->EmptyRunsTexture->ReleaseGraphicsResources(window);
-  this->NormalTexture->ReleaseGraphicsResources(window);
+  this->NormalBricks->ReleaseGraphicsResources(window);
   this->UploadedNormals = nullptr;
   this->NormalTextureMemorySize = 0;
   this->UploadedTable = nullptr;
@@ -813,8 +990,7 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
   os << indent << "VolumePrecision: " << this->VolumePrecision << "\n";
-  os << indent << "VolumeTextureMemorySize: " << this->VolumeTextureMemorySize << "\n";
-  os << indent << "VolumeCopyMemorySize: " << this->VolumeCopyMemorySize << "\n";
+  os << indent << "VolumeTextureMemorySize: " << this->GetVolumeTextureMemorySize() << "\n";
   os << indent << "TableTextureMemorySize: " << this->TableTextureMemorySize << "\n";
   os << indent << "NormalArrayName: " << (this->NormalArrayName ? this->NormalArrayName : "(none)")
      << "\n";

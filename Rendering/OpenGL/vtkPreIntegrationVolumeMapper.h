@@ -44,11 +44,18 @@
  *     for non-linear), counted in TableMemoryLimit and in the 3D
  *     texture's depth, and is built on the CPU.
  *
- * Cropping, clipping planes and jittering keep working: segments honour the cropping skip
- * flag and start and end where VTK's ray does. Composite blending of one-component scalars
+ * The volume is drawn brick by brick from textures of its own (vtkOpenGLVolumeBricks, with
+ * the ghost points a segment or slab reaching past a brick's face reads), and the shader walks
+ * each ray itself: samples lie on the ray's own grid (t = k times the sample distance from the
+ * camera's plane or eye, jittered by VTK's noise when UseJittering is on), and a brick
+ * composites the pieces whose front lies in it, so that the bricks give the image of one piece
+ * (up to early ray termination, which each brick applies to its own pieces). Cropping (a piece
+ * whose back lies in a region not drawn is skipped), clipping planes and opaque geometry (the
+ * ray ends at VTK's termination point) keep working. Composite blending of one-component scalars
  * (RGB or grey colour) without enabled gradient opacity or 2D transfer functions is
- * pre-integrated, shaded or not, with directional lights only;
- * anything else is drawn by VTK's stock path after a warning. The sample
+ * pre-integrated, shaded or not, with directional lights only, for point scalars and
+ * cameras that vtkCameraRayModel describes; anything else is drawn by VTK's stock path after a
+ * warning. The sample
  * distance is fixed (automatic adjustment is off) and must be positive: otherwise an error is
  * reported and nothing is drawn.
  */
@@ -63,6 +70,7 @@
 
 class vtkOpenGLPreIntegrationTableBuilder;
 class vtkOpenGLRenderWindow;
+class vtkOpenGLVolumeBricks;
 class vtkPreIntegrationTableSizer;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
@@ -239,17 +247,16 @@ public:
 
   ///@{
   /**
-   * How the volume is stored on the GPU while it is pre-integrated. Texture units may
-   * interpolate an 8-bit texture at 8-bit precision (Mesa's llvmpipe does), which rounds every
-   * sample to about a whole data value and puts a floor under the error of every step and
-   * table size. VOLUME_PRECISION_16BIT (the automatic choice) uploads a 16-bit integer copy of
-   * 8-bit data instead, the same values in twice the memory, whose texels llvmpipe converts to
-   * float before interpolating; VOLUME_PRECISION_FLOAT32 a float copy of 8- and 16-bit data
-   * (four bytes per value), interpolated in float wherever float textures are filtered in
-   * float. VTK uploads 16-bit data in 16-bit textures already, 32-bit integers and doubles as
-   * floats. The copy is made on the CPU once per scalar array and holds as many bytes as the
-   * texture; as it holds the data's values, VTK's scalar range and lookup tables are unchanged.
-   * Frames drawn by VTK's stock path use the data as VTK uploads it. Initial value is
+   * How the volume is stored on the GPU (its bricks, vtkOpenGLVolumeBricks) while it is
+   * pre-integrated. Texture units may interpolate an 8-bit texture at 8-bit precision (Mesa's
+   * llvmpipe does), which rounds every sample to about a whole data value and puts a floor
+   * under the error of every step and table size. VOLUME_PRECISION_16BIT (the automatic
+   * choice) stores 8-bit data as 16-bit values, the same values in twice the memory, whose
+   * texels llvmpipe converts to float before interpolating; VOLUME_PRECISION_FLOAT32 stores
+   * every type as floats (four bytes per value), interpolated in float wherever float textures
+   * are filtered in float; VOLUME_PRECISION_NATIVE keeps 8-bit data in 8 bits. 16-bit data is
+   * stored in 16 bits, 32-bit integers and doubles as floats. The textures are filled from the
+   * array itself, slice by slice: no copy of the volume is made on the CPU. Initial value is
    * VOLUME_PRECISION_AUTOMATIC.
    */
   vtkSetClampMacro(VolumePrecision, int, VOLUME_PRECISION_AUTOMATIC, VOLUME_PRECISION_FLOAT32);
@@ -257,12 +264,11 @@ public:
   ///@}
 
   /**
-   * Bytes of the volume texture of the last pre-integrated frame as uploaded (the data's
-   * points or cells times 1, 2 or 4 bytes, VolumePrecision resolved), and of the CPU copy
-   * made for it (0 when VTK uploads the input's own array).
+   * Bytes of the volume's textures of the last pre-integrated frame (its bricks, ghost points
+   * included), and of a CPU copy made for them (none: 0).
    */
-  vtkGetMacro(VolumeTextureMemorySize, vtkIdType);
-  vtkGetMacro(VolumeCopyMemorySize, vtkIdType);
+  vtkIdType GetVolumeTextureMemorySize() { return this->GetBrickTextureMemorySize(); }
+  vtkIdType GetVolumeCopyMemorySize() { return 0; }
 
   ///@{
   /**
@@ -309,10 +315,11 @@ public:
   /**
    * Shading: the point array of 3-component vectors to take as the normals
    * (interpolated trilinearly and normalised), such as the output of vtkGradientExaggeration;
-   * nullptr or empty: VTK's central-difference gradient of the scalar texture. The vectors are
-   * in the data's coordinates (as vtkImageGradient's) and uploaded as a float texture (12
-   * bytes per point) when the array changes. A name the input lacks, or an array that is not
-   * 3 components per point, is an error: nothing is drawn. Initial value is nullptr.
+   * nullptr or empty: the gradient of the trilinear field (the differences one point either
+   * side, clamped to the volume, as vtkVolumeReferenceIntegrator's). The vectors are in the
+   * data's coordinates (as vtkImageGradient's) and uploaded, in the volume's bricks, as float
+   * textures (12 bytes per point) when the array changes. A name the input lacks, or an array that
+   * is not 3 components per point, is an error: nothing is drawn. Initial value is nullptr.
    */
   vtkSetStringMacro(NormalArrayName);
   vtkGetStringMacro(NormalArrayName);
@@ -370,17 +377,18 @@ protected:
   // needs (0 unshaded), or -1 after an error (nothing can be drawn).
   int PrepareShading(vtkRenderer* ren, vtkVolume* vol);
   void SetShadingParameters(vtkShaderProgram* program);
-  // Uploads the NormalArrayName array as a 3D texture if it changed; false after an error.
+  // Uploads the NormalArrayName array in the volume's bricks if it changed; false after an
+  // error.
   bool UploadNormals(vtkRenderer* ren, const int dims[3]);
+  // The frame's geometry for the shader: grid index to world and to the data's coordinates,
+  // the camera's near plane and view direction, cropping and clipping in grid index.
+  void PrepareRayGeometry(vtkRenderer* ren, vtkVolume* vol);
   // Sets the active table's sizes: TableSize, or measured by the sizer when the data, the
   // transfer functions or the step changed. False after an error.
   bool SizeTable(vtkOpenGLRenderWindow* context,
     vtkDataArray* scalars,
     int cellFlag,
     const double range[2]);
-  // The array for VTK to upload as the volume texture under VolumePrecision: the input's own
-  // or a cached copy of its values in a wider type.
-  vtkDataArray* ChooseTextureScalars(vtkDataArray* scalars);
   bool BuildOnGPU(vtkOpenGLRenderWindow* context);
 
   int Integration = FIRST_ORDER;
@@ -394,18 +402,27 @@ protected:
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
   double MaximumSamplesPerRay = 1e5;
   int VolumePrecision = VOLUME_PRECISION_AUTOMATIC;
-  vtkIdType VolumeTextureMemorySize = 0;
-  vtkIdType VolumeCopyMemorySize = 0;
 
   vtkSecondOrderPreIntegrationTable* FirstOrderTable; // deviation 0
   vtkVolumeShadingModel* ShadingModel;
   bool LastFrameShaded = false;
   char* NormalArrayName = nullptr;
-  vtkTextureObject* NormalTexture;
+  vtkOpenGLVolumeBricks* NormalBricks;
   vtkIdType NormalTextureMemorySize = 0;
-  // What the normal texture holds.
-  vtkDataArray* UploadedNormals = nullptr;
-  vtkMTimeType UploadedNormalsTime = 0;
+  vtkDataArray* UploadedNormals = nullptr; // the array in NormalBricks, nullptr when none
+
+  // The frame's geometry (PrepareRayGeometry).
+  float IndexToWorld[9] = {};
+  float IndexToObject[9] = {};
+  float GradientToObject[9] = {};
+  float ViewDirection[3] = { 0.0f, 0.0f, -1.0f };
+  float Near = 0.0f;
+  float PlaneT = 0.0f;
+  float CroppingPlanes[6] = {};
+  int CroppingRegions = 0;
+  int ClippingCount = 0;
+  float ClippingPlanes[6][4] = {};
+  std::string RaySwitches; // HOVR_JITTER, HOVR_CLIPPING, HOVR_CROPPING as inserted
   // The shading switches of the GLSL last inserted (empty: unshaded).
   std::string ShadingSwitches;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;

@@ -195,10 +195,10 @@ def spike_scenes(size):
     return scenes
 
 
-def cast_image(scene, table, order, step, exact=False):
+def cast_image(scene, table, order, step, exact=False, threshold=None):
     """The image of vtkPreIntegrationRayCaster (the shaders' CPU twin) for a scene with a table
     (for the exact segment model, a table of any sizes holding only the settings), order and
-    step in voxels."""
+    step in voxels; ``threshold`` sets its OpacityThreshold (the mapper's default if None)."""
     import hovr
     caster = hovr.vtkPreIntegrationRayCaster()
     caster.SetTable(table)
@@ -209,6 +209,8 @@ def cast_image(scene, table, order, step, exact=False):
     caster.SetCamera(scene.camera)
     caster.SetImageSize(*scene.size)
     caster.SetSampleDistance(scene.step_length(step))
+    if threshold is not None:
+        caster.SetOpacityThreshold(threshold)
     caster.Update()
     return caster.GetOutput()
 

@@ -15,11 +15,28 @@
 // a constant scalar).
 //
 // Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
-// vtkAdaptiveRayVolumeMapper after computeRayDirection(), with hovrPreIntegrationCommon.glsl
-// (hovr_rawToTable, hovr_stepsToExit) before it and the
+// vtkAdaptiveRayVolumeMapper after computeRayDirection(), with the
 // switches HOVR_ORACLE (sample the oracle texture, else d = 1), HOVR_COUNT_SAMPLES (count the
 // slice samples in an atomic counter), HOVR_TILES (more than one layer) and HOVR_TRICUBIC
 // (the cubic B-spline approximation of the data, else VTK's trilinear interpolation).
+
+// Centre-axis table coordinate of a raw texture value: raw * x + y.
+uniform vec2 hovr_rawToTable;
+
+// Steps (in units of g_dirStep) from pos to where the ray leaves the volume's box.
+float hovr_stepsToExit(vec3 pos)
+{
+  vec3 bound = mix(in_texMin[0], in_texMax[0], step(vec3(0.0), g_dirStep));
+  vec3 steps = vec3(1e30);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (g_dirStep[a] != 0.0)
+    {
+      steps[a] = (bound[a] - pos[a]) / g_dirStep[a];
+    }
+  }
+  return min(steps.x, min(steps.y, steps.z));
+}
 
 // Layer k - 1 (segments of k slices) is tile ((k - 1) mod columns, (k - 1) / columns) of a 2D
 // texture; within a tile, front along x and back along y, entries at texel centres.

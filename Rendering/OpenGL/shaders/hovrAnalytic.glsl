@@ -53,18 +53,19 @@ uniform sampler2D hovr_extremes; // round 2: each pixel's extremum over the bric
 #endif
 #endif
 
-// The rays as an affine frame in grid index, computed in double on the CPU
-// (vtkCameraRayModel::GetGridRayFrame) when hovr_rayFrameInUse is 1: the ray of the pixel at
-// offset p from the viewport's centre passes through hovr_rayCentre + p.x hovr_rayDx +
-// p.y hovr_rayDy, near the volume, along that point minus hovr_rayEye (perspective) or along
-// hovr_rayForward (parallel). Otherwise rays go through VTK's matrices.
+// The rays as an affine frame in the brick's grid index, computed in double on the CPU
+// (vtkCameraRayModel::GetGridRayFrame, vtkExtensibleGPUVolumeRayCastMapper::
+// SetRayFrameUniforms) when hovr_rayFrameInUse is 1: the ray of the pixel at offset p from
+// hovr_localPixelCentre passes through hovr_localCentre + p.x hovr_rayDx + p.y hovr_rayDy,
+// near the brick, along that point minus hovr_localEye (perspective) or along hovr_rayForward
+// (parallel). Otherwise rays go through VTK's matrices.
 uniform int hovr_rayFrameInUse;
-uniform vec3 hovr_rayCentre;
+uniform vec3 hovr_localCentre;
 uniform vec3 hovr_rayDx;
 uniform vec3 hovr_rayDy;
-uniform vec3 hovr_rayEye;
+uniform vec3 hovr_localEye;
 uniform vec3 hovr_rayForward;
-uniform vec2 hovr_rayPixelCentre;
+uniform vec2 hovr_localPixelCentre;
 uniform int hovr_rayPerspective;
 
 // The texel c of a texture with nearest filtering, read at its centre: on software renderers
@@ -559,9 +560,9 @@ void hovr_analyticRay()
   vec3 dir = stop - start;
   if (hovr_rayFrameInUse == 1)
   {
-    vec2 p = gl_FragCoord.xy - in_windowLowerLeftCorner - hovr_rayPixelCentre;
-    base = hovr_rayCentre + p.x * hovr_rayDx + p.y * hovr_rayDy;
-    dir = hovr_rayPerspective == 1 ? base - hovr_rayEye : hovr_rayForward;
+    vec2 p = gl_FragCoord.xy - in_windowLowerLeftCorner - hovr_localPixelCentre;
+    base = hovr_localCentre + p.x * hovr_rayDx + p.y * hovr_rayDy;
+    dir = hovr_rayPerspective == 1 ? base - hovr_localEye : hovr_rayForward;
   }
   float len = length(dir);
   if (!(len > 0.0))

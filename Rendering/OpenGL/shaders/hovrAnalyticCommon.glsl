@@ -23,16 +23,4 @@ vec3 hovr_textureToIndex(vec3 tex)
   return (tex - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) * last;
 }
 
-// Texture coordinates of the point at window depth z on this fragment's pixel-centre ray,
-// through the matrices VTK uses for its ray termination point. The analytic rays start here
-// rather than at the interpolated ip_textureCoords, which rasterisers compute from vertices
-// snapped to a sub-pixel grid: up to 1/512 pixel off the pixel centre, which moves a surface
-// hit seen at a slant by more than 1e-3 voxel.
-vec3 hovr_windowToTexture(float z)
-{
-  vec4 ndc = vec4((gl_FragCoord.xy - in_windowLowerLeftCorner) * 2.0 * in_inverseWindowSize - 1.0,
-    (2.0 * z - (gl_DepthRange.near + gl_DepthRange.far)) / gl_DepthRange.diff, 1.0);
-  vec4 p = ip_inverseTextureDataAdjusted * in_inverseVolumeMatrix[0] * in_inverseModelViewMatrix *
-    in_inverseProjectionMatrix * ndc;
-  return p.xyz / p.w;
-}
+// hovr_windowToTexture: hovrWindow.glsl.

@@ -9,9 +9,9 @@
 //
 // Switches set by vtkPreIntegrationVolumeMapper: HOVR_LAYERS (2 or 4 moment layers),
 // HOVR_INTERPOLATION (0 constant, 1 linear, 2 non-linear), HOVR_GOOCH (Eq. 11 instead of
-// Blinn-Phong), HOVR_NORMALS (normals from the texture hovr_normals instead of VTK's
-// normalised central-difference gradient, computeGradient), both in the volume's object
-// coordinates, where the lights are given. HOVR_SLABS (second order, hovrPreIntegration2.glsl):
+// Blinn-Phong), HOVR_NORMALS (normals from the texture hovr_normals instead of the normalised
+// gradient, hovr_gradient), both in the volume's object coordinates, where the lights are
+// given. HOVR_SLABS (second order, hovrPreIntegration2.glsl):
 // the table is 3D over (chord centre, chord, deviation) and holds 2 HOVR_LAYERS layers one
 // behind the other along its depth, the moments of each half slab (hovr_shade() with base 0
 // and HOVR_LAYERS); without it, hovr_segment() shades a first-order segment.
@@ -37,18 +37,17 @@ uniform vec3 hovr_goochCool;
 uniform vec3 hovr_goochWarm;
 uniform vec2 hovr_goochWeights; // a, b
 
-vec3 hovr_view; // towards the eye, per ray
-
 #if HOVR_NORMALS
-uniform sampler3D hovr_normals; // the normal array, trilinear
+uniform sampler3D hovr_normals; // the normal array's brick (the volume's layout), trilinear
 #endif
 
-vec3 hovr_normalAt(vec3 pos)
+// The unit normal at a point of the brick's grid index (zero where the gradient vanishes).
+vec3 hovr_normalAt(vec3 p)
 {
 #if HOVR_NORMALS
-  vec3 g = texture(hovr_normals, pos).xyz;
+  vec3 g = texture(hovr_normals, (p + 0.5) * hovr_volumeInvTexels).xyz;
 #else
-  vec3 g = computeGradient(pos, 0, in_volume[0], 0).xyz;
+  vec3 g = hovr_gradient(p);
 #endif
   float len = length(g);
   return len > 0.0 ? g / len : vec3(0.0);
@@ -141,6 +140,62 @@ bool hovr_interiorMaximum(float fh, float bh, float m, out float value)
 }
 #endif
 
+#if !HOVR_GOOCH
+// Light k's diffuse and specular part of a segment's colour (hovr_shade): each light is a
+// call of its own rather than an iteration, as llvmpipe caps the loop iterations of a
+// fragment in all, and the ray's loop shades every segment.
+vec3 hovr_light(int k, vec4 J0, vec4 J1, vec4 J2, vec4 J3, vec4 I0, vec3 nFront, vec3 nBack,
+  vec3 nc, float m, float n, float tent)
+{
+  vec3 l = hovr_lightIsHead[k] != 0 ? hovr_view : hovr_lightDirection[k];
+  vec3 h = hovr_average(l, hovr_view);
+  vec3 diffuse;
+#if HOVR_INTERPOLATION == 0
+  diffuse = max(hovr_side(dot(nc, l)), 0.0) * I0.rgb;
+#else
+  vec3 e = hovr_orient(dot(nFront, l), dot(nBack, l));
+  float f = e.x, b = e.y;
+  // The paper's three cases (lines 162-173): each end faded, a negative end contributing
+  // nothing; the arc term when both ends face the light (and the segment is not split).
+  diffuse = max(f, 0.0) * J0.rgb + max(b, 0.0) * J1.rgb;
+#if HOVR_INTERPOLATION == 2
+  diffuse += (e.z == 0.0 && f >= 0.0 && b >= 0.0) ? m * (f * J2.rgb + b * J3.rgb) : vec3(0.0);
+#endif
+#endif
+  float specular = 0.0;
+  if (hovr_lighting.z != 0.0)
+  {
+#if HOVR_INTERPOLATION == 0
+    specular = max(hovr_cone(hovr_side(dot(nc, h))), 0.0) * I0.a;
+#else
+    vec3 eh = hovr_orient(dot(nFront, h), dot(nBack, h));
+    float fh = eh.x, bh = eh.y;
+    float threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
+    bool upFront = fh > threshold, upBack = bh > threshold;
+    // Each end's cone value faded (linear, split segments, and the paper's second case: its
+    // value, not its argument, line 210); the arc term when both ends are in the cone.
+    specular = (upFront ? hovr_cone(fh) * J0.a : 0.0) + (upBack ? hovr_cone(bh) * J1.a : 0.0);
+#if HOVR_INTERPOLATION == 2
+    if (eh.z == 0.0)
+    {
+      specular += upFront && upBack ? n * m * (fh * J2.a + bh * J3.a) : 0.0;
+      // Neither end in the cone: a highlight between the samples (lines 211-215). The
+      // profile stays below max(fh, bh) (1 + m / 4): no peak reaches the cone then.
+      float peak;
+      if (!upFront && !upBack && max(fh, bh) * (1.0 + 0.25 * m) > threshold &&
+        hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
+      {
+        specular = hovr_cone(peak) * tent;
+      }
+    }
+#endif
+#endif
+  }
+  return hovr_lighting.y * hovr_lightDiffuse[k] * diffuse +
+    hovr_lighting.z * hovr_lightSpecular[k] * specular;
+}
+#endif
+
 // The shaded segment (premultiplied RGB, opacity) whose moments are the layers base ..
 // base + HOVR_LAYERS - 1 at table coordinate coord, with unit (or zero) normals nFront and
 // nBack at its ends.
@@ -191,55 +246,25 @@ vec4 hovr_shade(int base, hovr_tableCoord_t coord, vec3 nFront, vec3 nBack)
   float m = 0.0;
 #endif
   vec3 nc = hovr_average(nFront, nBack);
-  for (int k = 0; k < hovr_numberOfLights; ++k)
-  {
-    vec3 l = hovr_lightIsHead[k] != 0 ? hovr_view : hovr_lightDirection[k];
-    vec3 h = hovr_average(l, hovr_view);
-    vec3 diffuse;
-#if HOVR_INTERPOLATION == 0
-    diffuse = max(hovr_side(dot(nc, l)), 0.0) * I0.rgb;
-#else
-    vec3 e = hovr_orient(dot(nFront, l), dot(nBack, l));
-    float f = e.x, b = e.y;
-    // The paper's three cases (lines 162-173): each end faded, a negative end contributing
-    // nothing; the arc term when both ends face the light (and the segment is not split).
-    diffuse = max(f, 0.0) * J0.rgb + max(b, 0.0) * J1.rgb;
+  float lightTent = 0.0;
 #if HOVR_INTERPOLATION == 2
-    diffuse += (e.z == 0.0 && f >= 0.0 && b >= 0.0) ? m * (f * J2.rgb + b * J3.rgb) : vec3(0.0);
+  lightTent = tent;
 #endif
-#endif
-    float specular = 0.0;
-    if (hovr_lighting.z != 0.0)
-    {
-#if HOVR_INTERPOLATION == 0
-      specular = max(hovr_cone(hovr_side(dot(nc, h))), 0.0) * I0.a;
-#else
-      vec3 eh = hovr_orient(dot(nFront, h), dot(nBack, h));
-      float fh = eh.x, bh = eh.y;
-      float threshold = (n - 1.0) / n; // the cone is positive above it (line 207)
-      bool upFront = fh > threshold, upBack = bh > threshold;
-      // Each end's cone value faded (linear, split segments, and the paper's second case: its
-      // value, not its argument, line 210); the arc term when both ends are in the cone.
-      specular = (upFront ? hovr_cone(fh) * J0.a : 0.0) + (upBack ? hovr_cone(bh) * J1.a : 0.0);
-#if HOVR_INTERPOLATION == 2
-      if (eh.z == 0.0)
-      {
-        specular += upFront && upBack ? n * m * (fh * J2.a + bh * J3.a) : 0.0;
-        // Neither end in the cone: a highlight between the samples (lines 211-215). The
-        // profile stays below max(fh, bh) (1 + m / 4): no peak reaches the cone then.
-        float peak;
-        if (!upFront && !upBack && max(fh, bh) * (1.0 + 0.25 * m) > threshold &&
-          hovr_interiorMaximum(fh, bh, m, peak) && hovr_cone(peak) > 0.0)
-        {
-          specular = hovr_cone(peak) * tent;
-        }
-      }
-#endif
-#endif
-    }
-    rgb += hovr_lighting.y * hovr_lightDiffuse[k] * diffuse +
-      hovr_lighting.z * hovr_lightSpecular[k] * specular;
+  // The lights one by one, not in a loop (see hovr_light).
+#define HOVR_LIGHT(k)                                                                            \
+  if (k < hovr_numberOfLights)                                                                   \
+  {                                                                                              \
+    rgb += hovr_light(k, J0, J1, J2, J3, I0, nFront, nBack, nc, m, n, lightTent);                \
   }
+  HOVR_LIGHT(0)
+  HOVR_LIGHT(1)
+  HOVR_LIGHT(2)
+  HOVR_LIGHT(3)
+  HOVR_LIGHT(4)
+  HOVR_LIGHT(5)
+  HOVR_LIGHT(6)
+  HOVR_LIGHT(7)
+#undef HOVR_LIGHT
 #endif
   return vec4(rgb, I0.a);
 }

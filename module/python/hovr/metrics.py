@@ -73,6 +73,8 @@ def compare_blend(image, reference, scene):
     low, high = scalars.GetFiniteRange() if hasattr(scalars, "GetFiniteRange") \
         else scalars.GetRange()
     span = (high - low) or 1.0
+    # Extrema come back from the GPU as float: the reference's, rounded the same way.
+    theirs = theirs.astype(numpy.float32).astype(numpy.float64)
     error = numpy.abs(ours[both] - theirs[both]) / span
     return {"hits_both": int(both.sum()),
             "hit_miss_disagreements": int((hit != ref_hit).sum()),

@@ -5,6 +5,12 @@
 // with the same cropping, clipping or jittering (so segments start, stop and skip where VTK's
 // ray does), while the cropped or clipped image clearly differs from the uncropped one (so
 // the cut really happened) and the jittered one differs from the unjittered one.
+//
+// VTK 9.1's shader compares cropping and clipping planes with sample positions in texture
+// coordinates of two kinds (box-normalised planes against texel-centred positions), which
+// moves its cuts away from the box's centre by 1/(N - 1) of their distance from it (N points
+// per axis; up to half a voxel at the faces). The mapper under test cuts at the planes
+// themselves; stock gets its planes moved in by as much, so that both cut in one place.
 #include "hovrRenderTestUtilities.h"
 
 #include "vtkActor.h"
@@ -57,17 +63,40 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
   };
   auto plainStock = render(stock);
 
-  vtkNew<vtkPlane> plane;
-  plane->SetOrigin(0.1, 0.0, 0.2);
-  plane->SetNormal(-0.8, 0.5, -0.3);
-  vtkNew<vtkPlaneCollection> planes;
-  planes->AddItem(plane);
-  // The opposite half: this plane ends the rays (g_terminatePointMax) instead of starting them.
-  vtkNew<vtkPlane> farPlane;
-  farPlane->SetOrigin(0.1, 0.0, 0.2);
-  farPlane->SetNormal(0.8, -0.5, 0.3);
-  vtkNew<vtkPlaneCollection> farPlanes;
-  farPlanes->AddItem(farPlane);
+  // Where stock must be told to cut so that it cuts at x along axis a (see above).
+  const int* dims = data->GetDimensions();
+  const double* dataBounds = data->GetBounds();
+  auto stockCut = [&](double x, int a)
+  {
+    const double centre = 0.5 * (dataBounds[2 * a] + dataBounds[2 * a + 1]);
+    return centre + (x - centre) * (dims[a] - 1.0) / dims[a];
+  };
+  auto makePlanes = [&](double sign, bool forStock)
+  {
+    const double origin[3] = { 0.1, 0.0, 0.2 };
+    vtkNew<vtkPlane> plane;
+    plane->SetOrigin(forStock ? stockCut(origin[0], 0) : origin[0],
+      forStock ? stockCut(origin[1], 1) : origin[1],
+      forStock ? stockCut(origin[2], 2) : origin[2]);
+    plane->SetNormal(-0.8 * sign, 0.5 * sign, -0.3 * sign);
+    vtkNew<vtkPlaneCollection> planes;
+    planes->AddItem(plane);
+    return vtkSmartPointer<vtkPlaneCollection>(planes);
+  };
+  auto planes = makePlanes(1.0, false), stockPlanes = makePlanes(1.0, true);
+  // The opposite half: this plane ends the rays instead of starting them.
+  auto farPlanes = makePlanes(-1.0, false), stockFarPlanes = makePlanes(-1.0, true);
+  auto setCropping = [&](vtkVolumeMapper* m)
+  {
+    const double planes[6] = { -0.55, 0.45, -0.65, 0.35, -0.75, 0.6 };
+    double moved[6];
+    for (int i = 0; i < 6; ++i)
+    {
+      moved[i] = m == stock.Get() ? stockCut(planes[i], i / 2) : planes[i];
+    }
+    m->CroppingOn();
+    m->SetCroppingRegionPlanes(moved);
+  };
 
   // An opaque black floor at z = -0.2 through the volume: rays stop at its depth.
   vtkNew<vtkPoints> corners;
@@ -110,10 +139,9 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
       0.25,
       0.009,
       0.1,
-      [](vtkVolumeMapper* m)
+      [&](vtkVolumeMapper* m)
       {
-        m->CroppingOn();
-        m->SetCroppingRegionPlanes(-0.55, 0.45, -0.65, 0.35, -0.75, 0.6);
+        setCropping(m);
         m->SetCroppingRegionFlagsToSubVolume();
       },
       [](vtkVolumeMapper* m) { m->CroppingOff(); } },
@@ -121,10 +149,9 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
       0.25,
       0.013,
       0.1,
-      [](vtkVolumeMapper* m)
+      [&](vtkVolumeMapper* m)
       {
-        m->CroppingOn();
-        m->SetCroppingRegionPlanes(-0.55, 0.45, -0.65, 0.35, -0.75, 0.6);
+        setCropping(m);
         m->SetCroppingRegionFlagsToInvertedCross();
       },
       [](vtkVolumeMapper* m) { m->CroppingOff(); } },
@@ -132,13 +159,14 @@ int TestPreIntegrationVolumeMapperCroppingClipping(int, char*[])
       0.25,
       0.010,
       0.1,
-      [&](vtkVolumeMapper* m) { m->SetClippingPlanes(planes); },
+      [&](vtkVolumeMapper* m) { m->SetClippingPlanes(m == stock.Get() ? stockPlanes : planes); },
       [](vtkVolumeMapper* m) { m->SetClippingPlanes(static_cast<vtkPlaneCollection*>(nullptr)); } },
     { "clipping plane (far side)",
       0.25,
       0.009,
       0.1,
-      [&](vtkVolumeMapper* m) { m->SetClippingPlanes(farPlanes); },
+      [&](vtkVolumeMapper* m)
+      { m->SetClippingPlanes(m == stock.Get() ? stockFarPlanes : farPlanes); },
       [](vtkVolumeMapper* m) { m->SetClippingPlanes(static_cast<vtkPlaneCollection*>(nullptr)); } },
     { "opaque polygon inside the volume",
       0.25,

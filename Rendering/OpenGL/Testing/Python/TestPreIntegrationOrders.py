@@ -5,8 +5,9 @@ against the reference integrator (96 x 96 images):
   ../shared/data is absent), second order is no less accurate than first order at every step
   from 1/4 to 4 voxels, except where the exact segment models of the two orders differ by less
   than 5% (the data varies too fast between samples for the slab's middle sample to help, and
-  the tables' smoothing decides: Marschner-Lobb 41 from 1 voxel up); there it must stay within
-  10% of first order;
+  the tables' smoothing decides: Marschner-Lobb 41 from 1 voxel up) or where first order's
+  measured table beats its own exact model by more than 10% (its smoothing, not its model,
+  decides); there second order must stay within 10% of first order;
 - at 2 voxels the ratio of their errors is printed beside the ratio of the exact segment models
   (vtkPreIntegrationRayCaster, ExactSegments: what the quadratic model itself gains over the
   linear one, without tables), for the record: measured first-order tables, coarse along the
@@ -63,10 +64,13 @@ for name, scene in scenes:
         # fast between samples for the slab's middle sample to tell much, and what the tables
         # smooth away (a coarse first-order table, prefiltered or not, can beat its own exact
         # model) decides: there second order must stay within 10% of first order.
-        model = error(exact(scene, 2, step), reference) / error(exact(scene, 1, step), reference)
-        allowed = 1.10 if model > 0.95 else 1.0
-        print("%s, step %g: second order behind first order; exact segment models %.3f, allowed "
-              "%.2f" % (name, step, model, allowed))
+        first_exact = error(exact(scene, 1, step), reference)
+        model = error(exact(scene, 2, step), reference) / first_exact
+        smoothing = first / first_exact
+        allowed = 1.10 if model > 0.95 or smoothing < 0.9 else 1.0
+        print("%s, step %g: second order behind first order; exact segment models %.3f, first "
+              "order's table over its model %.3f, allowed %.2f" % (name, step, model, smoothing,
+                                                                  allowed))
         c.check(second <= allowed * first, "%s, step %g: second order %.5f against first order "
                 "%.5f (allowed %.2f x: exact models %.3f)" % (name, step, second, first, allowed,
                                                              model))
