@@ -11,6 +11,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
@@ -25,6 +26,7 @@
 #include "vtk_glew.h"
 
 #include "hovrAdaptiveRay.h" // the GLSL of the adaptive ray
+#include "hovrVolumeAtlas.h" // its volume and oracle lookups
 
 #include <algorithm>
 #include <cmath>
@@ -47,14 +49,16 @@ struct vtkAdaptiveRayVolumeMapper::Internals
   // Table k - 1 composites k slices (Fig. 6's C_lut and alpha_lut for length k Delta).
   std::vector<vtkSmartPointer<vtkFirstOrderPreIntegrationTable>> Tables;
   vtkNew<vtkTextureObject> TableTexture;
-  vtkNew<vtkTextureObject> OracleTexture;
+  // The oracle in the volume's bricks (the same atlas tiles).
+  vtkNew<vtkOpenGLVolumeBricks> OracleBricks;
   // What the textures hold.
   std::vector<int> UploadedBuilds;
   int UploadedLayers = 0;
   float TileGrid[2] = { 1.0f, 1.0f }; // columns and rows of layer tiles
   unsigned int UploadedFormat = 0;
-  vtkDataArray* UploadedOracle = nullptr;
-  vtkMTimeType UploadedOracleTime = 0;
+  // The oracle array last found finite, and its time.
+  vtkDataArray* CheckedOracle = nullptr;
+  vtkMTimeType CheckedOracleTime = 0;
   // Per frame.
   bool UseOracle = false;
   float RawToTable[2] = { 1.0f, 0.0f };
@@ -164,6 +168,10 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   {
     reason = "the adaptive ray does not shade";
   }
+  if (reason.empty() && cellFlag)
+  {
+    reason = "the adaptive ray takes point scalars; these are cell data";
+  }
   if (reason.empty() && this->Cropping)
   {
     reason = "the adaptive ray does not support cropping";
@@ -186,12 +194,36 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     return DrawNothing;
   }
 
+  // The volume in bricks packed into one texture (an axis may exceed the GPU's 3D texture
+  // size); 8-bit data go up as 16-bit texels of the same values (finer interpolation), and
+  // the layout leaves room for the oracle's float texels.
+  const bool oracleWanted = this->OracleMode == ORACLE_ARRAY && this->MaximumLevel > 0;
+  // Where the 16-bit texels would exceed MaximumTextureBytes in one texture, 8-bit data keeps
+  // its own texels (interpolated at 8-bit precision on common GPUs) after a warning.
+  const double volumePoints = static_cast<double>(dims[0]) * dims[1] * dims[2];
+  int precision = vtkOpenGLVolumeBricks::WIDE;
+  std::string precisionWarning;
+  if (scalars->GetDataTypeSize() == 1 &&
+    2.0 * volumePoints > static_cast<double>(this->MaximumTextureBytes))
+  {
+    precision = vtkOpenGLVolumeBricks::NATIVE;
+    precisionWarning = "The volume's 8-bit values in 16-bit texels would exceed "
+                       "MaximumTextureBytes in one texture; they are interpolated at 8-bit "
+                       "precision. ";
+  }
+  if (!this->PrepareBricks(ren, scalars, dims, 0, precision, true, oracleWanted ? 4 : 0, 0, true))
+  {
+    return DrawNothing;
+  }
+  this->SetTextureScalars(nullptr);
+
   // The oracle, or d = 1 after a warning when it cannot be used.
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   internal.UseOracle = false;
-  std::string warning; // about the oracle or the counter; given once while it lasts
+  // About the precision, the oracle or the counter; given once while it lasts.
+  std::string warning = precisionWarning;
   // With l_max 0 every slice is sampled whatever the oracle says: it is not read.
-  if (this->OracleMode == ORACLE_ARRAY && this->MaximumLevel > 0)
+  if (oracleWanted)
   {
     std::string why;
     vtkDataArray* oracle =
@@ -213,42 +245,35 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     {
       why = "the oracle is a point array, the scalars are cell data";
     }
-    else if (internal.UploadedOracle != oracle ||
-      internal.UploadedOracleTime != oracle->GetMTime() ||
-      internal.OracleTexture->GetContext() != context || internal.OracleTexture->GetHandle() == 0)
+    else if (internal.CheckedOracle != oracle || internal.CheckedOracleTime != oracle->GetMTime())
     {
-      std::vector<float> values(static_cast<size_t>(points));
+      internal.CheckedOracle = nullptr;
       for (vtkIdType i = 0; i < points && why.empty(); ++i)
       {
-        const double v = oracle->GetComponent(i, 0);
-        if (!std::isfinite(v))
+        if (!std::isfinite(oracle->GetComponent(i, 0)))
         {
           why = "the oracle array has a value that is not finite (point " + std::to_string(i) + ")";
         }
-        values[i] = static_cast<float>(std::min(v, 1e30));
       }
       if (why.empty())
       {
-        vtkTextureObject* texture = internal.OracleTexture;
-        texture->ReleaseGraphicsResources(context);
-        texture->SetInternalFormat(GL_R32F);
-        texture->SetFormat(GL_RED);
-        texture->SetDataType(GL_FLOAT);
-        if (!this->CreateTexture3D(
-              texture, context, dims, 1, VTK_FLOAT, values.data(), "oracle texture", why))
-        {
-        }
-        else
-        {
-          texture->SetWrapS(vtkTextureObject::ClampToEdge);
-          texture->SetWrapT(vtkTextureObject::ClampToEdge);
-          texture->SetWrapR(vtkTextureObject::ClampToEdge);
-          texture->SetMinificationFilter(vtkTextureObject::Linear);
-          texture->SetMagnificationFilter(vtkTextureObject::Linear);
-          internal.UploadedOracle = oracle;
-          internal.UploadedOracleTime = oracle->GetMTime();
-          this->OracleTextureMemorySize = points * static_cast<vtkIdType>(sizeof(float));
-        }
+        internal.CheckedOracle = oracle;
+        internal.CheckedOracleTime = oracle->GetMTime();
+      }
+    }
+    if (why.empty())
+    {
+      vtkOpenGLVolumeBricks* bricks = internal.OracleBricks;
+      bricks->SetPrecision(vtkOpenGLVolumeBricks::FLOAT32);
+      bricks->SetFiltered(true);
+      bricks->SetAtlas(true);
+      if (bricks->Update(context, oracle, dims, why, this->GetBricks()->GetLayout()))
+      {
+        this->OracleTextureMemorySize = bricks->GetMemorySize();
+      }
+      else
+      {
+        why = "the oracle cannot be uploaded: " + why;
       }
     }
     if (why.empty())
@@ -257,8 +282,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     }
     else
     {
-      internal.UploadedOracle = nullptr;
-      warning = why + "; the oracle is ignored and every slice is sampled (d = 1).";
+      internal.OracleBricks->ReleaseGraphicsResources(context);
+      this->OracleTextureMemorySize = 0;
+      warning += why + "; the oracle is ignored and every slice is sampled (d = 1).";
     }
   }
   this->LastFrameUsedOracle = internal.UseOracle;
@@ -397,14 +423,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   this->EffectiveTableSize = size;
   this->NumberOfTables = layers;
 
-  // 8-bit data go up as 16-bit copies of the same values (finer interpolation); the table
-  // mapping follows the texture's type.
-  vtkDataArray* widened = this->WidenedTextureScalars(scalars);
-  this->SetTextureScalars(widened);
   // raw texture value -> data value -> table texture coordinate (entries at texel centres).
   double scale, shift;
-  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(
-    widened ? widened : scalars, scale, shift);
+  this->GetBricks()->GetValueMapping(scale, shift);
   const double toIndex = (size - 1.0) / (range[1] - range[0]);
   internal.RawToTable[0] = static_cast<float>(scale * toIndex / size);
   internal.RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
@@ -457,7 +478,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     (internal.UseOracle ? "1" : "0") + "\n#define HOVR_COUNT_SAMPLES " +
     (internal.CountingThisFrame ? "1" : "0") + "\n#define HOVR_TILES " + (layers > 1 ? "1" : "0") +
     "\n#define HOVR_TRICUBIC " +
-    (this->Reconstruction == RECONSTRUCTION_TRICUBIC_BSPLINE ? "1" : "0") + "\n";
+    (this->Reconstruction == RECONSTRUCTION_TRICUBIC_BSPLINE ? "1" : "0") + "\n" +
+    this->GetBricks()->GetAtlasDefines();
   if (switches != internal.Switches)
   {
     internal.Switches = switches;
@@ -482,7 +504,7 @@ void vtkAdaptiveRayVolumeMapper::ActivateExtensionTextures()
   internal.TableTexture->Activate();
   if (internal.UseOracle)
   {
-    internal.OracleTexture->Activate();
+    internal.OracleBricks->GetTexture(0)->Activate();
   }
   if (internal.CountingThisFrame)
   {
@@ -507,7 +529,7 @@ void vtkAdaptiveRayVolumeMapper::DeactivateExtensionTextures()
   internal.TableTexture->Deactivate();
   if (internal.UseOracle)
   {
-    internal.OracleTexture->Deactivate();
+    internal.OracleBricks->GetTexture(0)->Deactivate();
   }
   if (internal.CountingThisFrame && internal.CounterBuffer != 0)
   {
@@ -550,7 +572,7 @@ bool vtkAdaptiveRayVolumeMapper::ReplaceExtensionShaderValues(std::string&,
   ok = ok &&
     Self::ReplaceShaderTag(fragmentShader,
       "//VTK::ComputeRayDirection::Dec",
-      internal.Switches + hovrAdaptiveRay,
+      internal.Switches + hovrVolumeAtlas + hovrAdaptiveRay,
       Self::AfterTag);
   if (!ok)
   {
@@ -564,6 +586,8 @@ void vtkAdaptiveRayVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* 
 {
   Internals& internal = *this->Internal;
   program->SetUniformi("hovr_adaptiveTables", internal.TableTexture->GetTextureUnit());
+  program->SetUniformi("hovr_volume", this->GetBrickTexture()->GetTextureUnit());
+  this->GetBricks()->SetAtlasUniforms(program);
   program->SetUniformf("hovr_tableLayers", static_cast<float>(internal.UploadedLayers));
   program->SetUniform2f("hovr_tileGrid", internal.TileGrid);
   const float tileScale[2] = { 1.0f / internal.TileGrid[0], 1.0f / internal.TileGrid[1] };
@@ -576,7 +600,7 @@ void vtkAdaptiveRayVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* 
   program->SetUniformf("hovr_sliceStart", internal.SliceStart);
   if (internal.UseOracle)
   {
-    program->SetUniformi("hovr_oracle", internal.OracleTexture->GetTextureUnit());
+    program->SetUniformi("hovr_oracle", internal.OracleBricks->GetTexture(0)->GetTextureUnit());
     program->SetUniformf("hovr_oracleScale", static_cast<float>(1.0 / this->SampleDistance));
   }
 }
@@ -586,10 +610,9 @@ void vtkAdaptiveRayVolumeMapper::ReleaseExtensionResources(vtkWindow* window)
 {
   Internals& internal = *this->Internal;
   internal.TableTexture->ReleaseGraphicsResources(window);
-  internal.OracleTexture->ReleaseGraphicsResources(window);
+  internal.OracleBricks->ReleaseGraphicsResources(window);
   internal.UploadedLayers = 0;
   internal.UploadedBuilds.clear();
-  internal.UploadedOracle = nullptr;
   this->TableTextureMemorySize = 0;
   this->OracleTextureMemorySize = 0;
   if (internal.CounterBuffer != 0 && internal.CounterContext == window)

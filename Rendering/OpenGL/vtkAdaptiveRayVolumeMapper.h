@@ -16,7 +16,7 @@
  *     inside);
  *   - at each sample the oracle gives a preferred distance d = clamp(oracle / Delta, 1,
  *     2^MaximumLevel) in slices: the point array OracleArrayName (world units, as
- *     vtkAdaptiveSamplingOracle produces it), uploaded as a float 3D texture and interpolated
+ *     vtkAdaptiveSamplingOracle produces it), uploaded as float texels and interpolated
  *     trilinearly; with OracleMode MINIMUM, d = 1 everywhere (every slice is sampled: the
  *     paper's "min." oracle, line 231);
  *   - the next sample is slice j = (floor(i / 2^q) + 1) 2^q, q = min(floor(log2 d),
@@ -30,20 +30,24 @@
  *     ray's entry to its first slice and from its last sample to its exit or termination point
  *     take the table of the next whole number of slices and rescale its optical depth to their
  *     length (exact for a constant scalar), as vtkPreIntegrationVolumeMapper does.
- * The scalar field sampled along the rays is chosen by Reconstruction: VTK's trilinear
+ * The scalar field sampled along the rays is chosen by Reconstruction: trilinear
  * interpolation (one texture fetch a sample), or the cubic B-spline approximation of the data
  * (Sigg and Hadwiger, "Fast Third-Order Texture Filtering", GPU Gems 2, chapter 20: eight
  * trilinear fetches a sample), an expensive sampler with which each skipped sample saves
  * more. The B-spline's values are convex combinations of the data, so they stay within the
  * data range and the tables are those of the trilinear field; it does not interpolate the
- * data (it smooths them) but reproduces linear functions exactly. At the borders the volume
- * texture clamps to the edge: the data continue as the values of the outermost points, so
+ * data (it smooths them) but reproduces linear functions exactly. At the borders the fetches
+ * clamp to the edge: the data continue as the values of the outermost points, so
  * within one voxel of a face the B-spline blends in those copies (and a linear function is
  * reproduced only farther inside). The oracle is always read with one trilinear fetch.
  *
- * 8-bit scalars are uploaded as a 16-bit copy of the same values
- * (vtkExtensibleGPUVolumeRayCastMapper::WidenedTextureScalars), since some OpenGL
- * implementations interpolate 8-bit textures at 8-bit precision.
+ * The volume and the oracle are read from bricks packed into one texture each
+ * (vtkOpenGLVolumeBricks in atlas mode, hovrVolumeAtlas.glsl): a sample reads the brick that
+ * owns its cell, so the image does not depend on the split and an axis may be longer than
+ * GL_MAX_3D_TEXTURE_SIZE; VTK draws the volume's box from a 2 x 2 x 2 proxy. 8-bit scalars go
+ * up as 16-bit texels of the same values, since some OpenGL implementations interpolate 8-bit
+ * textures at 8-bit precision, unless those would exceed MaximumTextureBytes (a warning says
+ * so). No copy of the volume or the oracle is made on the CPU.
  *
  * Early ray termination is VTK's (opacity above 1 - 1/255). With OracleMode MINIMUM the image
  * is first-order pre-integration at step Delta on the slice grid: the same as
@@ -63,10 +67,13 @@
  *   - composite blending of one-component scalars with a 1D transfer function, no gradient
  *     opacity, no shading, no cropping and no clipping planes: anything else is drawn by VTK's
  *     stock path after a warning;
- *   - the oracle must be a point array of one finite value per point (any numeric type);
- *     otherwise (a missing array, another number of components or values, NaN or infinite
- *     values, cell scalars) a warning says so and the frame is drawn at the full rate (d = 1,
- *     as MINIMUM);
+ *   - point scalars only (cell scalars go to VTK's stock path after a warning);
+ *   - the volume must fit MaximumTextureBytes in one texture: otherwise an error is reported
+ *     and nothing is drawn;
+ *   - the oracle must be a point array of one finite value per point (any numeric type) that
+ *     fits MaximumTextureBytes in one texture; otherwise (a missing array, another number of
+ *     components or values, NaN or infinite values, too large) a warning says so and the
+ *     frame is drawn at the full rate (d = 1, as MINIMUM);
  *   - the sample distance is fixed (automatic adjustment is off) and must be positive and
  *     finite, and take at most MaximumSamplesPerRay samples along the volume's diagonal:
  *     otherwise an error is reported and nothing is drawn; so is a volume with fewer than

@@ -6,11 +6,13 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtk_glew.h"
 
 #include "hovrAdaptivePyramidLevel.h"
+#include "hovrVolumeAtlas.h"
 
 #include <algorithm>
 #include <array>
@@ -113,7 +115,8 @@ void vtkAdaptiveSamplingPyramid::ReleaseGraphicsResources(vtkWindow* window)
 bool vtkAdaptiveSamplingPyramid::Prepare(vtkOpenGLRenderWindow* context,
   int levels,
   int width,
-  int height)
+  int height,
+  const std::string& atlasDefines)
 {
   if (context != this->Context)
   {
@@ -158,9 +161,17 @@ bool vtkAdaptiveSamplingPyramid::Prepare(vtkOpenGLRenderWindow* context,
       }
     }
   }
+  if (this->Pass && atlasDefines != this->PassDefines)
+  {
+    this->Pass->ReleaseGraphicsResources(context);
+    this->Pass.reset();
+  }
   if (!this->Pass)
   {
-    this->Pass.reset(new vtkOpenGLQuadHelper(context, nullptr, hovrAdaptivePyramidLevel, ""));
+    std::string fragment = hovrAdaptivePyramidLevel;
+    vtkShaderProgram::Substitute(fragment, "//HOVR::Atlas", atlasDefines + hovrVolumeAtlas);
+    this->Pass.reset(new vtkOpenGLQuadHelper(context, nullptr, fragment.c_str(), ""));
+    this->PassDefines = atlasDefines;
   }
   if (!this->Pass->Program)
   {
@@ -269,6 +280,10 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
   program->SetUniformi("volumeIndex", frame.Volume->GetTextureUnit());
   program->SetUniformi("oracleWorld", frame.Oracle->GetTextureUnit());
   program->SetUniformi("tables", frame.Tables->GetTextureUnit());
+  frame.Bricks->SetAtlasUniforms(program);
+  const float rawToIndex[2] = { static_cast<float>(frame.RawToIndex[0]),
+    static_cast<float>(frame.RawToIndex[1]) };
+  program->SetUniform2f("rawToIndex", rawToIndex);
 
   // PROJECTSLICE for every slice (Fig. 7), levels l_slice down to 0.
   vtkIdType passes = 0;

@@ -19,11 +19,13 @@
 #include "vtkType.h"         // For vtkIdType
 
 #include <memory> // For std::unique_ptr
+#include <string> // For std::string
 #include <vector> // For std::vector
 
 class vtkOpenGLFramebufferObject;
 class vtkOpenGLQuadHelper;
 class vtkOpenGLRenderWindow;
+class vtkOpenGLVolumeBricks;
 class vtkTextureObject;
 class vtkWindow;
 
@@ -47,9 +49,14 @@ public:
     // can matter, from Rectangle (level-0 pixels, first x, first y, last x, last y).
     bool Count = false;
     int Rectangle[4] = { 0, 0, 0, 0 };
+    // The volume's and the oracle's bricks in one texture each (the same tiles, whose
+    // uniforms Bricks sets), the volume's raw values mapped to table indices by
+    // raw * RawToIndex[0] + RawToIndex[1].
     vtkTextureObject* Volume = nullptr;
     vtkTextureObject* Oracle = nullptr;
     vtkTextureObject* Tables = nullptr;
+    const vtkOpenGLVolumeBricks* Bricks = nullptr;
+    double RawToIndex[2] = { 1.0, 0.0 };
   };
 
   vtkAdaptiveSamplingPyramid();
@@ -57,10 +64,14 @@ public:
 
   /**
    * Size levels + 1 levels over a width x height level-0 image (both divisible by 2^levels)
-   * and compile the pass. Keeps what exists when nothing changed. Returns false when the pass
-   * does not compile (it needs GL_ARB_gpu_shader_fp64).
+   * and compile the pass with the bricks' atlas defines. Keeps what exists when nothing
+   * changed. Returns false when the pass does not compile (it needs GL_ARB_gpu_shader_fp64).
    */
-  bool Prepare(vtkOpenGLRenderWindow* context, int levels, int width, int height);
+  bool Prepare(vtkOpenGLRenderWindow* context,
+    int levels,
+    int width,
+    int height,
+    const std::string& atlasDefines);
 
   /**
    * Draw every slice of frame into the levels (the caller saves and restores the framebuffer
@@ -104,6 +115,7 @@ private:
 
   std::vector<Level> Levels;
   std::unique_ptr<vtkOpenGLQuadHelper> Pass;
+  std::string PassDefines;                  // the atlas defines the pass was compiled with
   vtkOpenGLRenderWindow* Context = nullptr; // not referenced: the window owns its resources
 };
 

@@ -17,6 +17,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
+#include "vtkOpenGLVolumeBricks.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkRenderer.h"
@@ -24,6 +25,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkVolume.h"
+#include "vtkVolumeBrickLayout.h"
 #include "vtkVolumeImageAlgorithm.h"
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
@@ -77,13 +79,10 @@ struct vtkAdaptiveSamplingVolumeMapper::Internals
   std::vector<vtkSmartPointer<vtkFirstOrderPreIntegrationTable>> Tables;
   std::vector<int> UploadedBuilds; // the tables' build counts when they were uploaded
   vtkNew<vtkTextureObject> TableTexture;
-  vtkNew<vtkTextureObject> VolumeTexture;
-  vtkNew<vtkTextureObject> OracleTexture;
-  // What the volume and oracle textures hold.
-  vtkDataArray* VolumeArray = nullptr; // not referenced: only compared
-  vtkMTimeType VolumeTime = 0;
-  double VolumeRange[2] = { 0, 0 };
-  int VolumeTableSize = 0;
+  // The oracle in the volume's bricks (the base class's, packed into one texture each: the
+  // same tiles), so that an axis may exceed the GPU's 3D texture size.
+  vtkNew<vtkOpenGLVolumeBricks> OracleBricks;
+  // The oracle array last found finite, and its time.
   vtkDataArray* OracleArray = nullptr; // not referenced: only compared
   vtkMTimeType OracleTime = 0;
 
@@ -95,10 +94,8 @@ struct vtkAdaptiveSamplingVolumeMapper::Internals
   void Release(vtkWindow* window)
   {
     this->TableTexture->ReleaseGraphicsResources(window);
-    this->VolumeTexture->ReleaseGraphicsResources(window);
-    this->OracleTexture->ReleaseGraphicsResources(window);
+    this->OracleBricks->ReleaseGraphicsResources(window);
     this->UploadedBuilds.clear();
-    this->VolumeArray = nullptr;
     this->OracleArray = nullptr;
     this->Pyramid.ReleaseGraphicsResources(window);
     this->Context = nullptr;
@@ -254,6 +251,8 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
           return;
         }
       }
+      internal.OracleArray = oracle;
+      internal.OracleTime = oracle->GetMTime();
     }
   }
 
@@ -343,58 +342,44 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
     }
   }
 
-  // The volume as table indices (the scalars mapped through the table's range, as the CPU core
-  // looks them up), and the oracle in world units.
-  if (scalars != internal.VolumeArray || scalars->GetMTime() != internal.VolumeTime ||
-    range[0] != internal.VolumeRange[0] || range[1] != internal.VolumeRange[1] ||
-    n != internal.VolumeTableSize || !internal.VolumeTexture->GetHandle())
+  // The volume (in its own type: texel reads are exact) and the oracle (world units, float) in
+  // bricks packed into one texture each, read texel by texel; the shader maps the volume's raw
+  // values to table indices (the scalars through the table's range, as the CPU core looks them
+  // up).
+  vtkOpenGLVolumeBricks* volumeBricks = this->GetBricks();
   {
-    std::vector<float> values(static_cast<size_t>(points));
-    vtkSMPTools::For(0,
-      points,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType i = begin; i < end; ++i)
-        {
-          values[i] = static_cast<float>((scalars->GetComponent(i, 0) - range[0]) * toIndex);
-        }
-      });
-    internal.VolumeArray = nullptr;
-    if (!this->UploadFloatTexture(
-          internal.VolumeTexture, context, dims, 1, values.data(), "volume texture"))
+    vtkVolumeBrickLayout* layout = volumeBricks->GetLayout();
+    int largest = std::max(vtkTextureObject::GetMaximumTextureSize3D(context), 2);
+    if (this->MaximumBrickSize > 0)
     {
+      largest = std::min(largest, this->MaximumBrickSize);
+    }
+    layout->SetGhostPoints(0);
+    layout->SetMaximumBrickPoints(largest);
+    layout->SetMaximumBrickBytes(static_cast<double>(this->MaximumTextureBytes));
+    std::string why;
+    volumeBricks->SetPrecision(vtkOpenGLVolumeBricks::NATIVE);
+    internal.OracleBricks->SetPrecision(vtkOpenGLVolumeBricks::FLOAT32);
+    for (vtkOpenGLVolumeBricks* bricks : { volumeBricks, internal.OracleBricks.Get() })
+    {
+      bricks->SetFiltered(false);
+      bricks->SetAtlas(true);
+    }
+    // The layout leaves room for the oracle's float texels.
+    volumeBricks->SetMinimumBytesPerPoint(oracle ? 4 : 0);
+    if (!volumeBricks->Update(context, scalars, dims, why))
+    {
+      vtkErrorMacro("Cannot draw the volume: " << why << "; nothing is drawn.");
       return;
     }
-    internal.VolumeArray = scalars;
-    internal.VolumeTime = scalars->GetMTime();
-    std::copy(range, range + 2, internal.VolumeRange);
-    internal.VolumeTableSize = n;
-  }
-  if (oracle &&
-    (oracle != internal.OracleArray || oracle->GetMTime() != internal.OracleTime ||
-      !internal.OracleTexture->GetHandle()))
-  {
-    std::vector<float> values(static_cast<size_t>(points));
-    for (vtkIdType i = 0; i < points; ++i)
+    if (oracle && !internal.OracleBricks->Update(context, oracle, dims, why, layout))
     {
-      values[i] = static_cast<float>(oracle->GetComponent(i, 0));
-    }
-    internal.OracleArray = nullptr;
-    if (!this->UploadFloatTexture(
-          internal.OracleTexture, context, dims, 1, values.data(), "oracle texture"))
-    {
+      vtkErrorMacro("Cannot upload the oracle: " << why << "; nothing is drawn.");
       return;
     }
-    internal.OracleArray = oracle;
-    internal.OracleTime = oracle->GetMTime();
   }
-  if (!oracle && !internal.OracleTexture->GetHandle())
-  {
-    // The minimum oracle reads nothing; the sampler still needs a texture.
-    float one = 1.0f;
-    const int single[3] = { 1, 1, 1 };
-    this->UploadFloatTexture(internal.OracleTexture, context, single, 1, &one, "oracle texture");
-  }
+  double scale, shift;
+  volumeBricks->GetValueMapping(scale, shift);
 
   // The slice grid in the volume's 0-based continuous grid index: world -> data -> index.
   vtkNew<vtkMatrix4x4> dataToGrid;
@@ -448,7 +433,8 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   // The pyramid over the padded viewport.
   const int paddedWidth = (width + block - 1) / block * block;
   const int paddedHeight = (height + block - 1) / block * block;
-  if (!internal.Pyramid.Prepare(context, lmax, paddedWidth, paddedHeight))
+  if (!internal.Pyramid.Prepare(
+        context, lmax, paddedWidth, paddedHeight, volumeBricks->GetAtlasDefines()))
   {
     vtkErrorMacro("The pyramid pass shader did not compile (it needs "
                   "GL_ARB_gpu_shader_fp64); nothing is drawn.");
@@ -473,9 +459,13 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   frame.MinimumOracle = this->OracleMode == ORACLE_MINIMUM;
   frame.EarlyTermination = this->EarlyRayTermination;
   frame.Count = this->CountOperations;
-  frame.Volume = internal.VolumeTexture;
-  frame.Oracle = internal.OracleTexture;
+  frame.Volume = volumeBricks->GetTexture(0);
+  // The minimum oracle reads nothing; its sampler gets the volume's texture.
+  frame.Oracle = oracle ? internal.OracleBricks->GetTexture(0) : frame.Volume;
   frame.Tables = internal.TableTexture;
+  frame.Bricks = volumeBricks;
+  frame.RawToIndex[0] = scale * toIndex;
+  frame.RawToIndex[1] = (shift - range[0]) * toIndex;
   {
     // Without counting, level 0 draws only the rays that meet the box, widened by how far
     // synthesis chains reach (at most 1.5 (2^l_max - 1) level-0 pixels, plus half a coarse

@@ -51,7 +51,11 @@
  *   - the volume's prop matrix moves the rays, but the oracle distances are taken in the
  *     volume's own coordinates;
  *   - the image is composited over what is drawn, without a depth test against opaque
- *     geometry.
+ *     geometry;
+ *   - the volume (in its own type, 64-bit types as floats) and the oracle (floats) are read
+ *     from bricks packed into one texture each (vtkOpenGLVolumeBricks in atlas mode: an axis
+ *     may be longer than GL_MAX_3D_TEXTURE_SIZE, and the split does not change the image), each
+ *     within MaximumTextureBytes.
  *
  * @sa vtkAdaptiveSamplingRayCaster vtkAdaptiveSamplingOracle vtkFirstOrderPreIntegrationTable
  */

@@ -186,7 +186,8 @@ bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(vtkRenderer* ren,
   int precision,
   bool filtered,
   int minimumBytes,
-  int maximumPoints)
+  int maximumPoints,
+  bool atlas)
 {
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   const int largest = context ? vtkTextureObject::GetMaximumTextureSize3D(context) : 0;
@@ -206,6 +207,7 @@ bool vtkExtensibleGPUVolumeRayCastMapper::PrepareBricks(vtkRenderer* ren,
   this->Bricks->SetPrecision(precision);
   this->Bricks->SetFiltered(filtered);
   this->Bricks->SetMinimumBytesPerPoint(minimumBytes);
+  this->Bricks->SetAtlas(atlas);
   std::string why;
   if (!this->Bricks->Update(context, scalars, dims, why))
   {
@@ -322,7 +324,15 @@ void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVo
     }
   }
   vtkNew<vtkIdList> order;
-  this->Bricks->GetLayout()->GetBackToFront(viewer, parallel, order);
+  const bool atlas = this->Bricks->GetAtlas();
+  if (atlas)
+  {
+    order->InsertNextId(0); // one box, the whole volume's, over the atlas
+  }
+  else
+  {
+    this->Bricks->GetLayout()->GetBackToFront(viewer, parallel, order);
+  }
 
   // VTK's ray caster reads its input from the shallow copy it keeps; the proxy stands in for
   // it during the bricks' draws.
@@ -336,6 +346,15 @@ void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVo
     this->CurrentBrick = static_cast<int>(order->GetId(n));
     int points[6];
     this->GetBrickPoints(points);
+    if (atlas)
+    {
+      const int* dims = input->GetDimensions();
+      for (int a = 0; a < 3; ++a)
+      {
+        points[2 * a] = 0;
+        points[2 * a + 1] = dims[a] - 1;
+      }
+    }
     double origin[3], spacing[3];
     input->TransformContinuousIndexToPhysicalPoint(
       extent[0] + points[0], extent[2] + points[2], extent[4] + points[4], origin);

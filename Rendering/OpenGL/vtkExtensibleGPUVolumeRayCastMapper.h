@@ -274,8 +274,9 @@ protected:
    * MaximumBrickSize and the GPU's limits). The frame is then drawn brick by brick in
    * visibility order, VTK drawing each
    * brick's box; while a brick is drawn, GetBrickCells(), GetBrickPoints() and
-   * GetBrickTexture() describe it and its texture is active. False after an error (nothing is
-   * drawn).
+   * GetBrickTexture() describe it and its texture is active. With atlas, the bricks are packed
+   * into one texture (vtkOpenGLVolumeBricks' atlas mode) and VTK draws the whole volume's box
+   * once, over it. False after an error (nothing is drawn).
    */
   bool PrepareBricks(vtkRenderer* ren,
     vtkDataArray* scalars,
@@ -284,7 +285,8 @@ protected:
     int precision,
     bool filtered,
     int minimumBytes = 0,
-    int maximumPoints = 0);
+    int maximumPoints = 0,
+    bool atlas = false);
   void GetBrickCells(int cells[6]);
   void GetBrickPoints(int points[6]);
 

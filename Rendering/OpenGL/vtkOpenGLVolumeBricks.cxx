@@ -4,6 +4,8 @@
 #include "vtkDataArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkVolumeBrickLayout.h"
 #include "vtk_glew.h"
@@ -107,7 +109,11 @@ vtkOpenGLVolumeBricks::~vtkOpenGLVolumeBricks() = default;
 //------------------------------------------------------------------------------
 vtkTextureObject* vtkOpenGLVolumeBricks::GetTexture(int brick) const
 {
-  return brick >= 0 && brick < this->GetNumberOfBricks() ? this->Textures[brick].Get() : nullptr;
+  if (brick < 0 || brick >= this->GetNumberOfBricks())
+  {
+    return nullptr;
+  }
+  return this->Textures[this->Atlas ? 0 : brick].Get();
 }
 
 //------------------------------------------------------------------------------
@@ -126,7 +132,8 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
   key << type << " " << components << " " << this->Precision << " " << this->Filtered << " "
       << dims[0] << " " << dims[1] << " " << dims[2] << " " << layout->GetGhostPoints() << " "
       << layout->GetMaximumBrickPoints() << " " << layout->GetMaximumBrickBytes() << " "
-      << this->MinimumBytesPerPoint << " " << layout->GetNumberOfBricks() << " " << context;
+      << this->MinimumBytesPerPoint << " " << layout->GetNumberOfBricks() << " " << this->Atlas
+      << " " << context;
   if (key.str() == this->Key && scalars == this->Scalars &&
     scalars->GetMTime() == this->ScalarsTime && !this->Textures.empty())
   {
@@ -170,30 +177,54 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     this->Shift = -format.Offset;
   }
 
+  // Atlas mode: one texture of tiles the size of the largest brick.
+  const int bricks = layout->GetNumberOfBricks();
+  if (this->Atlas && !this->PlanAtlas(context, layout, format.Bytes, why))
+  {
+    return false;
+  }
+
   GLint alignment = 4;
   glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (int n = 0; n < 16 && glGetError() != GL_NO_ERROR; ++n)
   {
   }
+  const int vtkType = format.Float ? VTK_FLOAT
+    : format.Bytes == 1            ? VTK_UNSIGNED_CHAR
+                                   : VTK_UNSIGNED_SHORT;
+  const int filter = this->Filtered ? vtkTextureObject::Linear : vtkTextureObject::Nearest;
   std::vector<float> floats;
   std::vector<unsigned short> shorts;
   std::vector<unsigned char> bytes;
-  for (int b = 0; b < layout->GetNumberOfBricks() && why.empty(); ++b)
+  vtkSmartPointer<vtkTextureObject> texture;
+  for (int b = 0; b < bricks && why.empty(); ++b)
   {
     int points[6], size[3];
     layout->GetBrickPoints(b, points);
     layout->GetBrickSize(b, size);
-    vtkNew<vtkTextureObject> texture;
-    texture->SetContext(context);
-    texture->SetInternalFormat(format.InternalFormat);
-    texture->SetFormat(components == 3 ? GL_RGB : GL_RED);
-    texture->SetDataType(format.GLType);
-    const int vtkType = format.Float ? VTK_FLOAT
-      : format.Bytes == 1            ? VTK_UNSIGNED_CHAR
-                                     : VTK_UNSIGNED_SHORT;
-    bool ok = texture->Create3DFromRaw(size[0], size[1], size[2], components, vtkType, nullptr);
-    GLenum error = glGetError();
+    int offset[3] = { 0, 0, 0 };
+    const int* created = size;
+    if (this->Atlas)
+    {
+      offset[0] = this->AtlasTileSize[0] * (b % this->AtlasTiles[0]);
+      offset[1] = this->AtlasTileSize[1] * ((b / this->AtlasTiles[0]) % this->AtlasTiles[1]);
+      offset[2] = this->AtlasTileSize[2] * (b / (this->AtlasTiles[0] * this->AtlasTiles[1]));
+      created = this->AtlasSize;
+    }
+    bool ok = true;
+    GLenum error = GL_NO_ERROR;
+    if (!this->Atlas || b == 0)
+    {
+      texture = vtkSmartPointer<vtkTextureObject>::New();
+      texture->SetContext(context);
+      texture->SetInternalFormat(format.InternalFormat);
+      texture->SetFormat(components == 3 ? GL_RGB : GL_RED);
+      texture->SetDataType(format.GLType);
+      ok =
+        texture->Create3DFromRaw(created[0], created[1], created[2], components, vtkType, nullptr);
+      error = glGetError();
+    }
     if (ok && error == GL_NO_ERROR)
     {
       texture->Activate();
@@ -219,9 +250,9 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
           }
           glTexSubImage3D(GL_TEXTURE_3D,
             0,
-            0,
-            0,
-            z - points[4],
+            offset[0],
+            offset[1],
+            offset[2] + z - points[4],
             size[0],
             size[1],
             1,
@@ -240,8 +271,16 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     if (!ok || error != GL_NO_ERROR)
     {
       std::ostringstream message;
-      message << "OpenGL could not create brick " << b << " (" << size[0] << " x " << size[1]
-              << " x " << size[2] << ")";
+      message << "OpenGL could not create ";
+      if (this->Atlas)
+      {
+        message << "the " << created[0] << " x " << created[1] << " x " << created[2]
+                << " texture of the volume's bricks";
+      }
+      else
+      {
+        message << "brick " << b << " (" << size[0] << " x " << size[1] << " x " << size[2] << ")";
+      }
       if (error == GL_OUT_OF_MEMORY)
       {
         message << ": out of memory";
@@ -249,14 +288,17 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
       why = message.str();
       break;
     }
-    texture->SetWrapS(vtkTextureObject::ClampToEdge);
-    texture->SetWrapT(vtkTextureObject::ClampToEdge);
-    texture->SetWrapR(vtkTextureObject::ClampToEdge);
-    const int filter = this->Filtered ? vtkTextureObject::Linear : vtkTextureObject::Nearest;
-    texture->SetMinificationFilter(filter);
-    texture->SetMagnificationFilter(filter);
-    this->Textures.emplace_back(texture);
-    this->MemorySize += static_cast<vtkIdType>(size[0]) * size[1] * size[2] * format.Bytes;
+    if (!this->Atlas || b == 0)
+    {
+      texture->SetWrapS(vtkTextureObject::ClampToEdge);
+      texture->SetWrapT(vtkTextureObject::ClampToEdge);
+      texture->SetWrapR(vtkTextureObject::ClampToEdge);
+      texture->SetMinificationFilter(filter);
+      texture->SetMagnificationFilter(filter);
+      this->Textures.emplace_back(texture);
+      this->MemorySize +=
+        static_cast<vtkIdType>(created[0]) * created[1] * created[2] * format.Bytes;
+    }
     ++this->UploadCount;
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
@@ -265,10 +307,133 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     this->ReleaseGraphicsResources(context);
     return false;
   }
+  this->BrickCount = bricks;
   this->Key = key.str();
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkOpenGLVolumeBricks::PlanAtlas(vtkOpenGLRenderWindow* context,
+  vtkVolumeBrickLayout* layout,
+  int bytesPerTexel,
+  std::string& why)
+{
+  const int bricks = layout->GetNumberOfBricks();
+  layout->GetNumberOfPieces(this->AtlasPieces);
+  layout->GetDimensions(this->AtlasDimensions);
+  std::fill(this->AtlasTileSize, this->AtlasTileSize + 3, 1);
+  for (int b = 0; b < bricks; ++b)
+  {
+    int size[3];
+    layout->GetBrickSize(b, size);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->AtlasTileSize[a] = std::max(this->AtlasTileSize[a], size[a]);
+    }
+  }
+  // The cuts along each axis: the first cell of every piece, then the cells.
+  const int stride =
+    std::max({ this->AtlasPieces[0], this->AtlasPieces[1], this->AtlasPieces[2] }) + 1;
+  this->AtlasCuts.assign(3 * static_cast<size_t>(stride), 0);
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int p = 0; p < this->AtlasPieces[a]; ++p)
+    {
+      int index[3] = { 0, 0, 0 };
+      index[a] = p;
+      int cells[6];
+      layout->GetBrickCells(
+        index[0] + this->AtlasPieces[0] * (index[1] + this->AtlasPieces[1] * index[2]), cells);
+      this->AtlasCuts[a * stride + p] = cells[2 * a];
+      this->AtlasCuts[a * stride + p + 1] = cells[2 * a + 1];
+    }
+  }
+  // The fewest tiles (then the smallest largest axis) that hold the bricks within the GPU's
+  // largest 3D texture.
+  const int largest = std::max(vtkTextureObject::GetMaximumTextureSize3D(context), 2);
+  long long best = -1, bestAxis = 0;
+  const int limit[3] = { largest / this->AtlasTileSize[0],
+    largest / this->AtlasTileSize[1],
+    largest / this->AtlasTileSize[2] };
+  for (int t0 = 1; t0 <= std::min(limit[0], bricks); ++t0)
+  {
+    for (int t1 = 1; t1 <= std::min(limit[1], bricks); ++t1)
+    {
+      const int t2 = (bricks + t0 * t1 - 1) / (t0 * t1);
+      if (t2 > limit[2])
+      {
+        continue;
+      }
+      const long long tiles = static_cast<long long>(t0) * t1 * t2;
+      const long long axis = std::max({ static_cast<long long>(t0) * this->AtlasTileSize[0],
+        static_cast<long long>(t1) * this->AtlasTileSize[1],
+        static_cast<long long>(t2) * this->AtlasTileSize[2] });
+      if (best < 0 || tiles < best || (tiles == best && axis < bestAxis))
+      {
+        best = tiles;
+        bestAxis = axis;
+        this->AtlasTiles[0] = t0;
+        this->AtlasTiles[1] = t1;
+        this->AtlasTiles[2] = t2;
+      }
+    }
+  }
+  std::ostringstream message;
+  if (best < 0)
+  {
+    message << "the volume's " << bricks << " bricks of up to " << this->AtlasTileSize[0] << " x "
+            << this->AtlasTileSize[1] << " x " << this->AtlasTileSize[2]
+            << " points do not fit in one 3D texture of at most " << largest << " points a side";
+    why = message.str();
+    return false;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    this->AtlasSize[a] = this->AtlasTiles[a] * this->AtlasTileSize[a];
+  }
+  const double total = static_cast<double>(this->AtlasSize[0]) * this->AtlasSize[1] *
+    this->AtlasSize[2] * bytesPerTexel;
+  if (total > layout->GetMaximumBrickBytes())
+  {
+    message << "the volume needs one texture of " << total / 1048576.0 << " MiB, over the "
+            << layout->GetMaximumBrickBytes() / 1048576.0 << " MiB a texture may take";
+    why = message.str();
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLVolumeBricks::GetAtlasDefines() const
+{
+  const int cuts = this->AtlasCuts.empty() ? 2 : static_cast<int>(this->AtlasCuts.size() / 3);
+  return "#define HOVR_ATLAS_CUTS " + std::to_string(cuts) + "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLVolumeBricks::SetAtlasUniforms(vtkShaderProgram* program) const
+{
+  if (!this->AtlasCuts.empty())
+  {
+    program->SetUniform1iv(
+      "hovr_atlasCuts", static_cast<int>(this->AtlasCuts.size()), this->AtlasCuts.data());
+  }
+  // Cells, pieces, tiles and the tile size, 3 each (hovrVolumeAtlas.glsl's hovr_atlasGrid).
+  int grid[12];
+  for (int a = 0; a < 3; ++a)
+  {
+    grid[a] = this->AtlasDimensions[a] - 1;
+    grid[3 + a] = this->AtlasPieces[a];
+    grid[6 + a] = this->AtlasTiles[a];
+    grid[9 + a] = this->AtlasTileSize[a];
+  }
+  program->SetUniform1iv("hovr_atlasGrid", 12, grid);
+  const float inverse[3] = {
+    1.0f / this->AtlasSize[0], 1.0f / this->AtlasSize[1], 1.0f / this->AtlasSize[2]
+  };
+  program->SetUniform3f("hovr_atlasInvSize", inverse);
 }
 
 //------------------------------------------------------------------------------
@@ -290,6 +455,7 @@ void vtkOpenGLVolumeBricks::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Precision: " << this->Precision << "\n";
   os << indent << "Filtered: " << this->Filtered << "\n";
+  os << indent << "Atlas: " << this->Atlas << "\n";
   os << indent << "MinimumBytesPerPoint: " << this->MinimumBytesPerPoint << "\n";
   os << indent << "NumberOfBricks: " << this->GetNumberOfBricks() << "\n";
   os << indent << "MemorySize: " << this->MemorySize << "\n";

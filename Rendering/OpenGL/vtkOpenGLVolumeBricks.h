@@ -18,6 +18,13 @@
  * reaches the texture only through R32F. Arrays of 3 components (normals) are uploaded as
  * RGB32F, as they are.
  *
+ * With Atlas on, the bricks are packed into one 3D texture instead, tile b of a grid of tiles
+ * holding brick b's points: a renderer whose rays cross the whole volume in one pass reads
+ * the brick that owns the cell a sample lies in (hovrVolumeAtlas.glsl), so that every
+ * trilinear sample is the volume's own (neighbouring bricks share their face points; the
+ * layout needs no ghosts). That lifts the limit on an axis (GL_MAX_3D_TEXTURE_SIZE) but not on
+ * the bytes: the atlas is one texture within the layout's MaximumBrickBytes.
+ *
  * A value class of hovr's mappers (a vtkObject for reference counting), not wrapped.
  */
 #ifndef vtkOpenGLVolumeBricks_h
@@ -33,6 +40,7 @@
 
 class vtkDataArray;
 class vtkOpenGLRenderWindow;
+class vtkShaderProgram;
 class vtkTextureObject;
 class vtkVolumeBrickLayout;
 class vtkWindow;
@@ -70,6 +78,14 @@ public:
 
   ///@{
   /**
+   * Pack the bricks into one texture (see the class documentation). Initial value is false.
+   */
+  vtkSetMacro(Atlas, bool);
+  vtkGetMacro(Atlas, bool);
+  ///@}
+
+  ///@{
+  /**
    * The layout plans bricks for at least this many bytes per point, so that arrays of other
    * formats (normals) can be uploaded in the same bricks. Initial value is 0.
    */
@@ -96,8 +112,20 @@ public:
     std::string& why,
     vtkVolumeBrickLayout* layout = nullptr);
 
-  int GetNumberOfBricks() const { return static_cast<int>(this->Textures.size()); }
+  /**
+   * Bricks of the last upload (0 without one), and brick b's texture (the atlas for every
+   * brick in atlas mode).
+   */
+  int GetNumberOfBricks() const { return this->Textures.empty() ? 0 : this->BrickCount; }
   vtkTextureObject* GetTexture(int brick) const;
+
+  /**
+   * Atlas mode: the most cuts along an axis (pieces + 1) that the GLSL's cut array holds, as
+   * "#define HOVR_ATLAS_CUTS n" (hovrVolumeAtlas.glsl needs it before it), and the uniforms
+   * that place the bricks (hovr_atlas*; the sampler itself is the caller's).
+   */
+  std::string GetAtlasDefines() const;
+  void SetAtlasUniforms(vtkShaderProgram* program) const;
 
   /**
    * data value = raw texture value * scale + shift, for every brick.
@@ -126,10 +154,23 @@ protected:
 
 private:
   vtkOpenGLVolumeBricks(const vtkOpenGLVolumeBricks&) = delete;
+  // Atlas mode: the tiles for the layout's bricks, false with why when they do not fit.
+  bool PlanAtlas(vtkOpenGLRenderWindow* context,
+    vtkVolumeBrickLayout* layout,
+    int bytesPerTexel,
+    std::string& why);
   void operator=(const vtkOpenGLVolumeBricks&) = delete;
 
   int Precision = WIDE;
   bool Filtered = true;
+  bool Atlas = false;
+  int BrickCount = 0;
+  int AtlasTiles[3] = { 1, 1, 1 };    // tiles along the atlas's axes
+  int AtlasTileSize[3] = { 1, 1, 1 }; // texels of a tile
+  int AtlasSize[3] = { 1, 1, 1 };
+  std::vector<int> AtlasCuts; // the layout's cuts, HOVR_ATLAS_CUTS per axis
+  int AtlasPieces[3] = { 1, 1, 1 };
+  int AtlasDimensions[3] = { 2, 2, 2 };
   int MinimumBytesPerPoint = 0;
   vtkNew<vtkVolumeBrickLayout> Layout;
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures;

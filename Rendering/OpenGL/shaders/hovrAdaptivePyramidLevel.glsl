@@ -47,8 +47,11 @@ uniform sampler2D previousIn;
 uniform sampler2D colourIn;
 uniform sampler2D coarseState; // level + 1, this slice
 uniform sampler2D fineState;   // level - 1, its last pass (terminated flags)
-uniform sampler3D volumeIndex;  // the scalars as table indices (float)
-uniform sampler3D oracleWorld;  // oracle distances, world units
+uniform sampler3D volumeIndex;  // the scalars, float, in the atlas's tiles
+uniform vec2 rawToIndex;        // their table index: raw * x + y
+uniform sampler3D oracleWorld;  // oracle distances, world units, in the same tiles
+
+//HOVR::Atlas
 uniform sampler3D tables;       // tableSize x tableSize x 2^l_max segment tables
 
 // The trilinear value at p (0-based continuous grid index), clamped to the box of the points:
@@ -66,6 +69,7 @@ float hovrSampleVolume(dvec3 p)
   dvec3 wd;
   hovrCell(p, c, wd);
   vec3 w = vec3(wd);
+  c = hovr_atlasTexel(c);
   float v000 = texelFetch(volumeIndex, c, 0).r;
   float v100 = texelFetch(volumeIndex, c + ivec3(1, 0, 0), 0).r;
   float v010 = texelFetch(volumeIndex, c + ivec3(0, 1, 0), 0).r;
@@ -80,7 +84,7 @@ float hovrSampleVolume(dvec3 p)
   float c11 = v011 + w.x * (v111 - v011);
   float c0 = c00 + w.y * (c10 - c00);
   float c1 = c01 + w.y * (c11 - c01);
-  return c0 + w.z * (c1 - c0);
+  return (c0 + w.z * (c1 - c0)) * rawToIndex.x + rawToIndex.y;
 }
 
 // The oracle in double, as the CPU core interpolates it, so that d decides as it does there.
@@ -89,6 +93,7 @@ double hovrSampleOracle(dvec3 p)
   ivec3 c;
   dvec3 w;
   hovrCell(p, c, w);
+  c = hovr_atlasTexel(c);
   double v000 = double(texelFetch(oracleWorld, c, 0).r);
   double v100 = double(texelFetch(oracleWorld, c + ivec3(1, 0, 0), 0).r);
   double v010 = double(texelFetch(oracleWorld, c + ivec3(0, 1, 0), 0).r);

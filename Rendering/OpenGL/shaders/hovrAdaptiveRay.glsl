@@ -15,10 +15,10 @@
 // a constant scalar).
 //
 // Inserted into vtkOpenGLGPUVolumeRayCastMapper's fragment shader by
-// vtkAdaptiveRayVolumeMapper after computeRayDirection(), with the
-// switches HOVR_ORACLE (sample the oracle texture, else d = 1), HOVR_COUNT_SAMPLES (count the
-// slice samples in an atomic counter), HOVR_TILES (more than one layer) and HOVR_TRICUBIC
-// (the cubic B-spline approximation of the data, else VTK's trilinear interpolation).
+// vtkAdaptiveRayVolumeMapper after computeRayDirection(), with hovrVolumeAtlas.glsl before it
+// and the switches HOVR_ORACLE (sample the oracle texture, else d = 1), HOVR_COUNT_SAMPLES
+// (count the slice samples in an atomic counter), HOVR_TILES (more than one layer) and
+// HOVR_TRICUBIC (the cubic B-spline approximation of the data, else trilinear interpolation).
 
 // Centre-axis table coordinate of a raw texture value: raw * x + y.
 uniform vec2 hovr_rawToTable;
@@ -50,26 +50,35 @@ uniform int hovr_perspective;          // slices are spheres around the eye, els
 uniform vec3 hovr_sliceOrigin;         // parallel: a point of slice 0 (dataset coordinates)
 uniform float hovr_sliceStart;         // perspective: the radius of slice 0
 #if HOVR_ORACLE
-uniform sampler3D hovr_oracle;  // oracle distance in world units, trilinear
+uniform sampler3D hovr_oracle;  // oracle distance in world units, the volume's atlas tiles
 uniform float hovr_oracleScale; // 1 / Delta
 #endif
 #if HOVR_COUNT_SAMPLES
 layout(binding = 0, offset = 0) uniform atomic_uint hovr_sampleCounter;
 #endif
 
+// The volume's bricks in one texture (hovrVolumeAtlas.glsl), read by the volume's grid index;
+// VTK's own texture is a proxy of the volume's box, whose texture coordinates g_dataPos are.
+uniform sampler3D hovr_volume;
+
+// The volume's 0-based grid index of a position in VTK's texture coordinates.
+vec3 hovr_gridOf(vec3 pos)
+{
+  return (pos - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) *
+    vec3(hovr_atlasGrid[0], hovr_atlasGrid[1], hovr_atlasGrid[2]);
+}
+
 #if HOVR_TRICUBIC
-// The cubic B-spline approximation of the volume at pos (texture coordinates, data points at
-// texel centres) from 8 trilinear fetches (Sigg and Hadwiger, "Fast Third-Order Texture
-// Filtering", GPU Gems 2, ch. 20): per axis, with x = i + f the position in texels,
-// the B-spline weights w0..w3 of the points i - 1 .. i + 2 pair into two linear fetches,
-// g0 (the fetch between i - 1 and i at offset h0 = w1 / g0, g0 = w0 + w1) plus g1 (between
-// i + 1 and i + 2 at offset h1 = w3 / g1, g1 = w2 + w3 = 1 - g0). The weights are positive, so
-// the value stays within the data range. Clamp-to-edge addressing continues the data beyond
-// the outermost points as copies of them.
+// The cubic B-spline approximation of the volume at pos (texture coordinates) from 8
+// trilinear fetches (Sigg and Hadwiger, "Fast Third-Order Texture Filtering", GPU Gems 2,
+// ch. 20): per axis, with x = i + f the position in the grid index, the B-spline weights
+// w0..w3 of the points i - 1 .. i + 2 pair into two linear fetches, g0 (the fetch between
+// i - 1 and i at offset h0 = w1 / g0, g0 = w0 + w1) plus g1 (between i + 1 and i + 2 at offset
+// h1 = w3 / g1, g1 = w2 + w3 = 1 - g0). The weights are positive, so the value stays within the
+// data range. Fetches beyond the outermost points read copies of them (clamp to edge).
 float hovr_volumeValue(vec3 pos)
 {
-  vec3 size = vec3(textureSize(in_volume[0], 0));
-  vec3 x = pos * size - 0.5;
+  vec3 x = hovr_gridOf(pos);
   vec3 i = floor(x);
   vec3 f = x - i;
   vec3 f2 = f * f;
@@ -79,16 +88,16 @@ float hovr_volumeValue(vec3 pos)
   vec3 w3 = f3 / 6.0;
   vec3 g0 = w0 + w1; // at least 1/6
   vec3 g1 = 1.0 - g0;
-  vec3 t0 = (i - 0.5 + w1 / g0) / size;
-  vec3 t1 = (i + 1.5 + w3 / g1) / size;
-  float v000 = texture(in_volume[0], vec3(t0.x, t0.y, t0.z)).r;
-  float v100 = texture(in_volume[0], vec3(t1.x, t0.y, t0.z)).r;
-  float v010 = texture(in_volume[0], vec3(t0.x, t1.y, t0.z)).r;
-  float v110 = texture(in_volume[0], vec3(t1.x, t1.y, t0.z)).r;
-  float v001 = texture(in_volume[0], vec3(t0.x, t0.y, t1.z)).r;
-  float v101 = texture(in_volume[0], vec3(t1.x, t0.y, t1.z)).r;
-  float v011 = texture(in_volume[0], vec3(t0.x, t1.y, t1.z)).r;
-  float v111 = texture(in_volume[0], vec3(t1.x, t1.y, t1.z)).r;
+  vec3 t0 = i - 1.0 + w1 / g0;
+  vec3 t1 = i + 1.0 + w3 / g1;
+  float v000 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t0.y, t0.z))).r;
+  float v100 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t0.y, t0.z))).r;
+  float v010 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t1.y, t0.z))).r;
+  float v110 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t1.y, t0.z))).r;
+  float v001 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t0.y, t1.z))).r;
+  float v101 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t0.y, t1.z))).r;
+  float v011 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t1.y, t1.z))).r;
+  float v111 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t1.y, t1.z))).r;
   // mix(a, b, g1) = g0 a + g1 b along x, then y, then z.
   return mix(mix(mix(v000, v100, g1.x), mix(v010, v110, g1.x), g1.y),
     mix(mix(v001, v101, g1.x), mix(v011, v111, g1.x), g1.y), g1.z);
@@ -96,7 +105,7 @@ float hovr_volumeValue(vec3 pos)
 #else
 float hovr_volumeValue(vec3 pos)
 {
-  return texture(in_volume[0], pos).r;
+  return texture(hovr_volume, hovr_atlasCoord(hovr_gridOf(pos))).r;
 }
 #endif
 
@@ -193,7 +202,8 @@ void hovr_adaptiveStep()
   hovr_sFront = s;
   hovr_frontSlice = hovr_slice;
 #if HOVR_ORACLE
-  float d = max(texture(hovr_oracle, g_dataPos).r * hovr_oracleScale, 1.0);
+  float oracle = texture(hovr_oracle, hovr_atlasCoord(hovr_gridOf(g_dataPos))).r;
+  float d = max(oracle * hovr_oracleScale, 1.0);
 #else
   float d = 1.0;
 #endif

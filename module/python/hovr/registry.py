@@ -96,6 +96,10 @@ class Method:
             raise HovrError("the scalar range [%g, %g] exceeds float range, in which %s stores "
                             "the volume; rescale the values" % (low, high, self.name))
 
+    def check_context(self, window, scene):
+        """Raise HovrError when the method cannot draw ``scene`` in the OpenGL context of
+        ``window`` (a rendered vtkOpenGLRenderWindow)."""
+
     def count_samples(self, rays, scene, step):
         """The samples a frame takes along ``rays`` (a prepared vtkCameraRayModel of the
         scene): one every ``step`` voxels inside the volume."""
@@ -149,6 +153,9 @@ class ThreadedMethod(Method):
     def check_scene(self, scene):
         self.method.check_scene(scene)
 
+    def check_context(self, window, scene):
+        self.method.check_context(window, scene)
+
     def count_samples(self, rays, scene, step):
         return self.method.count_samples(rays, scene, step)
 
@@ -163,10 +170,36 @@ class ThreadedMethod(Method):
 
 
 class StockMethod(Method):
+    # hovr's mappers hold no texture over this (their MaximumTextureBytes): OpenGL
+    # implementations accept larger ones and read them wrongly.
+    TEXTURE_BYTES = 2**30
+
     def make_mapper(self):
         mapper = vtkOpenGLGPUVolumeRayCastMapper()
         mapper.SetAutoAdjustSampleDistances(0)
         return mapper
+
+    def check_context(self, window, scene):
+        """VTK 9.1's mapper draws nothing, with log lines but no error, from a volume texture
+        it cannot create; its partitions misplace each block's texels. Refuse such volumes."""
+        from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+        dims = scene.image.GetDimensions()
+        largest = vtkTextureObject.GetMaximumTextureSize3D(window)
+        scalars = scene.image.GetPointData().GetScalars()
+        # VTK uploads 64-bit types as 32-bit floats.
+        size = min(scalars.GetDataTypeSize(), 4) * scalars.GetNumberOfComponents()
+        texture = float(size) * dims[0] * dims[1] * dims[2]
+        if largest > 0 and max(dims) > largest:
+            raise HovrError("%s cannot draw a volume of %d x %d x %d points: VTK's mapper needs "
+                            "one 3D texture and this OpenGL holds at most %d points a side; "
+                            "hovr's GPU methods draw it in bricks" % ((self.name,) + dims +
+                                                                      (largest,)))
+        if texture > self.TEXTURE_BYTES:
+            raise HovrError("%s cannot draw a volume of %d x %d x %d points: VTK's mapper needs "
+                            "one 3D texture of %.0f MiB, over the %d MiB a texture may safely "
+                            "take; hovr's GPU methods draw it in bricks" % (
+                                (self.name,) + dims + (texture / 2**20,
+                                                       self.TEXTURE_BYTES // 2**20)))
 
 
 class PreIntegrationMethod(Method):

@@ -226,6 +226,8 @@ class Renderer:
                     method.name, method.blend, scene.blend))
             method.check_scene(scene)
         self._ensure_window(scene.size)
+        for method, _ in runs:
+            method.check_context(self._window, scene)
         renderer = self._renderer
         renderer.RemoveAllViewProps()
         renderer.GetActiveCamera().DeepCopy(scene.camera)

@@ -3,7 +3,9 @@ hold are drawn right.
 
 1. Marschner-Lobb on 256^3 points (float), 64 x 64, in one piece and in forced bricks of 64
    cells a side (MaximumBrickSize 65; pre-integration's ghost points make its bricks smaller
-   still): first- and second-order pre-integration, unshaded and shaded, and the analytic
+   still): first- and second-order pre-integration, unshaded and shaded, the adaptive ray
+   (trilinear and tricubic: its bricks are tiles of one texture), the adaptive slice pyramid
+   (parallel projection; tiles too), and the analytic
    isosurface, maximum and minimum projections. The images must agree to within float
    rounding: at most 2e-4 on any pixel and channel (the texture unit's 8-bit interpolation
    weights of a sample differ by a step where the sample's coordinate rounds differently in a
@@ -13,8 +15,11 @@ hold are drawn right.
    images may differ by what lies behind a nearly opaque brick (at most 1/255).
 2. A volume of 4096 x 32 x 32 points (beyond GL_MAX_3D_TEXTURE_SIZE on llvmpipe, 2048): each
    GPU method draws it without a message, pre-integration as its CPU twin does (both without
-   early ray termination; RMSE at most 2e-4, TestPreIntegrationRayCaster's bound) and the analytic methods within the small tests'
-   limits of the reference.
+   early ray termination; RMSE at most 2e-4, TestPreIntegrationRayCaster's bound), the
+   adaptive ray the same in more bricks (at most 700 points a side; 2e-4) and within 1.25 times
+   first-order pre-integration's RMSE to the reference (TestAdaptiveRayVolumeMapper's bound),
+   the slice pyramid the same in more bricks (to 1e-6: its samples read the same texels), and
+   the analytic methods within the small tests' limits of the reference.
 """
 
 import numpy
@@ -61,7 +66,7 @@ class Bricked(hm.Method):
         return stats
 
 
-def scene_for(volume, blend, tf, shade=False, unit=0.05):
+def scene_for(volume, blend, tf, shade=False, unit=0.05, parallel=False):
     color, opacity, _ = hio.read_transfer_function(tf_path(tf))
     prop = hio.make_volume_property(color, opacity, unit)
     low, high = volume.GetPointData().GetScalars().GetRange()
@@ -73,7 +78,8 @@ def scene_for(volume, blend, tf, shade=False, unit=0.05):
         prop.SetDiffuse(0.6)
         prop.SetSpecular(0.3)
         prop.SetSpecularPower(20.0)
-    return hm.Scene(volume, prop, hio.default_camera(volume.GetBounds()), SIZE, blend)
+    return hm.Scene(volume, prop, hio.default_camera(volume.GetBounds(), parallel=parallel), SIZE,
+                    blend)
 
 
 # 1. One piece against forced bricks.
@@ -83,11 +89,13 @@ source.Update()
 volume = source.GetOutput()
 cases = [("preint1", "composite", False), ("preint2", "composite", False),
          ("preint1-nonlinear", "composite", True), ("preint2", "composite", True),
+         ("adaptive-ray", "composite", False), ("adaptive-ray-tricubic", "composite", False),
+         ("adaptive-3d", "composite", False),
          ("iso-analytic", "iso", False), ("mip-analytic", "mip", False),
          ("minip-analytic", "minip", False)]
 for name, blend, shade in cases:
     scene = scene_for(volume, blend, "iso-opaque" if blend == "iso" else "marschner-lobb-spikes",
-                      shade)
+                      shade, parallel=hm.get_method(name).parallel_only)
     whole = Bricked(hm.get_method(name), 0)
     split = Bricked(hm.get_method(name), 65)
     one = renderer.render(whole, scene, 1.0)
@@ -117,14 +125,51 @@ y = numpy.linspace(0.0, 1.0, 32, dtype=numpy.float32)
 values = (0.5 + 0.45 * numpy.sin(40.0 * x)[None, None, :] * numpy.cos(3.0 * y)[None, :, None] *
           numpy.cos(3.0 * y)[:, None, None]).astype(numpy.float32)
 long_volume = image_from_array(values, spacing=(1.0, 8.0, 8.0))
+preint_error = None
 for name, blend in (("preint1", "composite"), ("preint2", "composite"), ("iso-analytic", "iso"),
-                    ("mip-analytic", "mip")):
+                    ("mip-analytic", "mip"), ("adaptive-ray", "composite"),
+                    ("adaptive-3d", "composite")):
     scene = scene_for(long_volume, blend,
-                      "iso-opaque" if blend == "iso" else "marschner-lobb-spikes", unit=4.0)
+                      "iso-opaque" if blend == "iso" else "marschner-lobb-spikes", unit=4.0,
+                      parallel=hm.get_method(name).parallel_only)
     method = Bricked(hm.get_method(name), 0)
     result = renderer.render(method, scene, 1.0)
     seen = (rgba(result.image)[..., 3] > 0.01).sum()
-    if blend == "composite":
+    if name == "adaptive-3d":
+        # The split must not matter; how close the pyramid comes to its GL-free core is
+        # TestAdaptiveSamplingVolumeMapper's to check (printed here for the record).
+        more = renderer.render(Bricked(hm.get_method(name), 700), scene, 1.0)
+        split = numpy.abs(rgba(result.image) - rgba(more.image)).max()
+        core = renderer.render("adaptive-cpu", scene, 1.0).image
+        error = hm.compare(result.image, core)[0]["rmse"]
+        print("4096 x 32 x 32 %-12s %d bricks, %d with at most 700 points a side: largest "
+              "difference %.2e; RMSE to the CPU core %.2e, %d pixels seen"
+              % (name, result.extra["bricks"], more.extra["bricks"], split, error, seen))
+        c.check(result.extra["bricks"] > 1 and more.extra["bricks"] > result.extra["bricks"] and
+                seen > 100 and split <= 1e-6,
+                "4096 x 32 x 32, %s: drawn in bricks, the same whatever the split (%.2e)"
+                % (name, split))
+    elif name == "adaptive-ray":
+        # No twin: the split must not matter (more bricks draw the same image), and the error
+        # against the reference stays what it is for first-order pre-integration at the step.
+        more = renderer.render(Bricked(hm.get_method(name), 700), scene, 1.0)
+        split = numpy.abs(rgba(result.image) - rgba(more.image)).max()
+        reference = renderer.render("reference", scene, 1.0).image
+        error = hm.compare(result.image, reference)[0]["rmse"]
+        print("4096 x 32 x 32 %-12s %d bricks, %d with at most 700 points a side: largest "
+              "difference %.2e; RMSE to the reference %.2e (preint1 %.2e), %d pixels seen"
+              % (name, result.extra["bricks"], more.extra["bricks"], split, error, preint_error,
+                 seen))
+        c.check(result.extra["bricks"] > 1 and more.extra["bricks"] > result.extra["bricks"] and
+                seen > 100 and split <= 2e-4 and error <= 1.25 * preint_error + 2e-5,
+                "4096 x 32 x 32, %s: drawn in bricks, the same whatever the split, as close to "
+                "the reference as preint1" % name)
+    elif blend == "composite":
+        if name == "preint1":
+            # With the early ray termination the adaptive ray has (VTK's loop's).
+            plain = renderer.render(name, scene, 1.0).image
+            preint_error = hm.compare(plain, renderer.render("reference", scene, 1.0).image)[0][
+                "rmse"]
         twin = cast_image(scene, result.extra["table"], 1 if name == "preint1" else 2, 1.0,
                           threshold=1.0)
         difference = hm.compare(result.image, twin)[0]["rmse"]
