@@ -547,6 +547,12 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkAdaptiveSamplingVolumeMapper::GetOracleTextureMemorySize()
+{
+  return this->Internal->OracleBricks->GetMemorySize();
+}
+
+//------------------------------------------------------------------------------
 void vtkAdaptiveSamplingVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -173,6 +173,12 @@ public:
   ///@}
 
   /**
+   * Bytes of GPU memory held by the oracle's bricks (the volume's are the base class's
+   * GetBrickTextureMemorySize).
+   */
+  vtkIdType GetOracleTextureMemorySize();
+
+  /**
    * Number of rebuilds of the 2^MaximumLevel segment tables so far (they are rebuilt when the
    * transfer functions, the unit distance, Delta, the scalar range, TableSize or MaximumLevel
    * change).

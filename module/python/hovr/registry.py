@@ -242,7 +242,9 @@ class PreIntegrationMethod(Method):
                 "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
                 "table_on_gpu": bool(mapper.GetLastTableBuiltOnGPU()),
                 "table_builds": table.GetBuildCount(),
-                "table_gpu_bytes": mapper.GetTableTextureMemorySize()}
+                "table_gpu_bytes": mapper.GetTableTextureMemorySize(),
+                "volume_gpu_bytes": mapper.GetBrickTextureMemorySize(),
+                "normal_gpu_bytes": mapper.GetNormalTextureMemorySize()}
 
 
 class AnalyticMethod(Method):
@@ -270,7 +272,8 @@ class AnalyticMethod(Method):
         if not self.analytic:
             return {}
         return {"block_gpu_bytes": mapper.GetBlockTextureMemorySize(),
-                "corner_gpu_bytes": mapper.GetCornerTextureMemorySize()}
+                "corner_gpu_bytes": mapper.GetCornerTextureMemorySize(),
+                "volume_gpu_bytes": mapper.GetBrickTextureMemorySize()}
 
 
 class FixedPointMethod(Method):
@@ -507,8 +510,9 @@ class AdaptiveRayMethod(AdaptiveMethod):
                                             mapper.GetEffectiveTableSize(),
                                             mapper.GetNumberOfTables()),
                 "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
-                "table_gpu_bytes": mapper.GetTableTextureMemorySize()
-                + mapper.GetOracleTextureMemorySize()}
+                "table_gpu_bytes": mapper.GetTableTextureMemorySize(),
+                "volume_gpu_bytes": mapper.GetBrickTextureMemorySize(),
+                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize()}
 
 
 class AdaptivePyramidMethod(AdaptiveMethod):
@@ -540,7 +544,9 @@ class AdaptivePyramidMethod(AdaptiveMethod):
     def statistics(self, mapper):
         spacing = min(abs(s) for s in mapper.GetInput().GetSpacing())
         return {"slice_spacing_voxels": mapper.GetSliceSpacing() / spacing,
-                "passes_per_frame": mapper.GetLastFramePasses()}
+                "passes_per_frame": mapper.GetLastFramePasses(),
+                "volume_gpu_bytes": mapper.GetBrickTextureMemorySize(),
+                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize()}
 
 
 METHODS = {m.name: m for m in (
