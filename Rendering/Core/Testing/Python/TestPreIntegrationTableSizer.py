@@ -20,7 +20,7 @@ the per-ray differences to the best exceeds 1.05^2 times the best's. The cases a
 both the measured ratio and that confidence bound; the worst case, and the build time and
 memory of the chosen tables, are printed too. An argument K/N runs the cases whose number is K-1
 modulo N (ctest runs the halves in parallel); --cases M runs the first M cases (default 50;
-ctest runs 20 to keep the test suite short, the whole 50 is run by hand, as docs/performance.md
+ctest runs 12 to keep the test suite short, the whole 50 is run by hand, as docs/performance.md
 says).
 
 The judge measures on rays, not on a camera image, to see many directions at once; the rays
