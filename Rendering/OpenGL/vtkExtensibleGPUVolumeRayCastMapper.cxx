@@ -254,6 +254,12 @@ vtkIdType vtkExtensibleGPUVolumeRayCastMapper::GetBrickTextureMemorySize()
 }
 
 //------------------------------------------------------------------------------
+int vtkExtensibleGPUVolumeRayCastMapper::GetBrickUploadCount()
+{
+  return this->Bricks->GetUploadCount();
+}
+
+//------------------------------------------------------------------------------
 vtkTextureObject* vtkExtensibleGPUVolumeRayCastMapper::GetBrickTexture()
 {
   return this->Bricks->GetTexture(this->CurrentBrick);

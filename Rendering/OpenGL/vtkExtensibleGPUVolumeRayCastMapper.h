@@ -128,6 +128,12 @@ public:
   vtkIdType GetBrickTextureMemorySize();
 
   /**
+   * Bricks uploaded since the mapper was made: each brick once per new or changed volume or
+   * brick layout, none for a frame that only moves the camera or edits the transfer function.
+   */
+  int GetBrickUploadCount();
+
+  /**
    * The first point (0-based grid index) of brick b's texture in the last bricked frame: a
    * position in the brick's own grid index plus this is one in the volume's.
    */

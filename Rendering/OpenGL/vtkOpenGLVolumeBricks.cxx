@@ -128,12 +128,15 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
   const int components = scalars->GetNumberOfComponents() == 3 ? 3 : 1;
   const Format format = FormatOf(type, this->Precision, components);
   vtkVolumeBrickLayout* layout = shared ? shared : this->Layout.Get();
+  // An own layout follows from the settings in the key; it is updated below, so its brick
+  // count here would be the last frame's and would make the second frame upload again. A
+  // shared layout is already up to date: its bricks are in the key.
   std::ostringstream key;
   key << type << " " << components << " " << this->Precision << " " << this->Filtered << " "
       << dims[0] << " " << dims[1] << " " << dims[2] << " " << layout->GetGhostPoints() << " "
       << layout->GetMaximumBrickPoints() << " " << layout->GetMaximumBrickBytes() << " "
-      << this->MinimumBytesPerPoint << " " << layout->GetNumberOfBricks() << " " << this->Atlas
-      << " " << context;
+      << this->MinimumBytesPerPoint << " " << (shared ? shared->GetNumberOfBricks() : -1) << " "
+      << this->Atlas << " " << context;
   if (key.str() == this->Key && scalars == this->Scalars &&
     scalars->GetMTime() == this->ScalarsTime && !this->Textures.empty())
   {

@@ -438,17 +438,30 @@ def _isolated_frame(spec, base, size, method, step, settings):
     first frame's time and the process's peak resident memory, in a dict."""
     request = json.dumps({"spec": spec, "base": base, "size": list(size), "method": method,
                           "step": step, "settings": settings})
-    child = subprocess.Popen([sys.executable, "-c", "import sys; from hovr import bench; "
-                              "bench._isolated_frame_child(sys.argv[1])", request],
-                             stdout=subprocess.PIPE, env=dict(os.environ))
-    out = child.stdout.read()
-    _, status, usage = os.wait4(child.pid, 0)
-    child.stdout.close()
-    if status != 0:
-        raise HovrError("the isolated frame of %s failed (status %d)" % (method, status))
-    result = json.loads(out.decode().strip().splitlines()[-1])
-    result["peak_rss_mib"] = usage.ru_maxrss / 1024.0  # kilobytes on Linux
-    return result
+    child = subprocess.run([sys.executable, "-c", "import sys; from hovr import bench; "
+                            "bench._isolated_frame_child(sys.argv[1])", request],
+                           stdout=subprocess.PIPE, env=dict(os.environ), check=False)
+    if child.returncode != 0:
+        raise HovrError("the isolated frame of %s failed (status %d)" % (method,
+                                                                        child.returncode))
+    return json.loads(child.stdout.decode().strip().splitlines()[-1])
+
+
+def peak_resident_mib():
+    """This process's peak resident memory in MiB, of its own address space only: the kernel's
+    high-water mark (VmHWM). The maximum resident size that wait4 and getrusage report for a
+    child also counts the parent's pages the child shared before its exec, so a child of a
+    large process would report at least the parent's size."""
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    import resource
+    scale = 1024.0 * 1024.0 if sys.platform == "darwin" else 1024.0  # bytes on macOS
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / scale
 
 
 def _isolated_frame_child(request):
@@ -463,7 +476,7 @@ def _isolated_frame_child(request):
         renderer.render(method, scene, request["step"], 0)
         elapsed = time.perf_counter() - start
     renderer.close()
-    print(json.dumps({"first_frame_ms": 1000.0 * elapsed}))
+    print(json.dumps({"first_frame_ms": 1000.0 * elapsed, "peak_rss_mib": peak_resident_mib()}))
 
 
 def _runs_of(spec, config):

@@ -3,7 +3,7 @@
 GPU: after one frame, the bytes of each texture a method makes (the mapper's own counters,
 which add up the sizes of the textures it created) on a Marschner-Lobb volume of 97 x 81 x 66
 points (no axis a multiple of another) stored as uint8, uint16 and float32:
-- in one brick, the volume's texture is exactly b' N bytes, b' the bytes per texel the
+- in one brick, the volume's texture is exactly b' N bytes, uploaded once over three frames, b' the bytes per texel the
   documentation gives (the data's own size, 8-bit data as 16-bit texels where the method
   filters it); the oracle of the adaptive methods 4 N; the pre-integration table within its
   memory limit;
@@ -26,14 +26,13 @@ real GPU), the excess only shrinks.
 import copy
 import json
 import math
-import os
-import resource
 import subprocess
 import sys
 
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
+from hovr.bench import peak_resident_mib
 from hovrtesting import Checker, tf_path
 
 DIMS = (97, 81, 66)
@@ -76,16 +75,20 @@ def scene_for(image, name, size=(48, 48)):
     return hm.Scene(image, prop, camera, size, blend)
 
 
-def method_for(name, brick=None):
+def method_for(name, brick=None, mappers=None):
+    """The method, its bricks at most ``brick`` points a side, its mappers kept in
+    ``mappers``."""
     method = copy.copy(hm.get_method(name))
-    if brick:
-        make = method.make_mapper
+    make = method.make_mapper
 
-        def make_mapper():
-            mapper = make()
+    def make_mapper():
+        mapper = make()
+        if brick:
             mapper.SetMaximumBrickSize(brick)
-            return mapper
-        method.make_mapper = make_mapper
+        if mappers is not None:
+            mappers.append(mapper)
+        return mapper
+    method.make_mapper = make_mapper
     return method
 
 
@@ -103,19 +106,19 @@ def child(request):
         stats = renderer.render(method_for(request["method"]),
                                 scene_for(image, request["method"]), 1.0).extra
     renderer.close()
-    print(json.dumps({k: v for k, v in stats.items()
-                      if k.endswith("_bytes") or k == "table_size"}))
+    result = {k: v for k, v in stats.items() if k.endswith("_bytes") or k == "table_size"}
+    print(json.dumps(dict(result, peak_rss_mib=peak_resident_mib())))
 
 
 def isolated(name):
-    process = subprocess.Popen([sys.executable, __file__, "--child", json.dumps({"method": name})],
-                               stdout=subprocess.PIPE)
-    out = process.stdout.read()
-    _, status, usage = os.wait4(process.pid, 0)
-    process.stdout.close()
-    if status != 0:
-        raise RuntimeError("the frame of %s failed (status %d)" % (name, status))
-    return json.loads(out.decode().strip().splitlines()[-1]), usage.ru_maxrss / 1024.0
+    """The GPU bytes and the peak resident memory (its own, not the parent's it was forked
+    from: hovr.bench.peak_resident_mib) of a frame in a process of its own."""
+    process = subprocess.run([sys.executable, __file__, "--child", json.dumps({"method": name})],
+                             stdout=subprocess.PIPE, check=False)
+    if process.returncode != 0:
+        raise RuntimeError("the frame of %s failed (status %d)" % (name, process.returncode))
+    result = json.loads(process.stdout.decode().strip().splitlines()[-1])
+    return result, result.pop("peak_rss_mib")
 
 
 if len(sys.argv) > 2 and sys.argv[1] == "--child":
@@ -134,7 +137,8 @@ for type_name, (vtk_type, stored) in TYPES.items():
         scene = scene_for(image, name)
         expected = texel_bytes(name, stored) * points
         for brick in (None, BRICK):
-            stats = renderer.render(method_for(name, brick), scene, 1.0).extra
+            mappers = []
+            stats = renderer.render(method_for(name, brick, mappers), scene, 1.0, 2).extra
             label = "%s, %s, %s" % (name, type_name, "bricks of %d" % brick if brick else
                                     "one brick")
             print("%s: %s" % (label, ", ".join("%s %.3f N" % (k, v / points)
@@ -144,6 +148,9 @@ for type_name, (vtk_type, stored) in TYPES.items():
             if brick is None:
                 c.check(held == expected, "%s: the volume's texture holds %d bytes per point (%.3f)"
                         % (label, expected // points, held / points))
+                uploads = mappers[0].GetBrickUploadCount()
+                c.check(uploads == 1, "%s: the volume is uploaded once over three frames (%d "
+                        "times)" % (label, uploads))
             else:
                 c.check(expected < held <= bricked_limit * expected,
                         "%s: the bricks hold every point and their ghosts, %.3f of b' N (at "
