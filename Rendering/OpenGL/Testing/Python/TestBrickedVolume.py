@@ -125,6 +125,15 @@ y = numpy.linspace(0.0, 1.0, 32, dtype=numpy.float32)
 values = (0.5 + 0.45 * numpy.sin(40.0 * x)[None, None, :] * numpy.cos(3.0 * y)[None, :, None] *
           numpy.cos(3.0 * y)[:, None, None]).astype(numpy.float32)
 long_volume = image_from_array(values, spacing=(1.0, 8.0, 8.0))
+
+
+def resplit(name, scene, result):
+    """The method's image in bricks of at most 700 points a side, and its largest difference
+    to ``result``."""
+    more = renderer.render(Bricked(hm.get_method(name), 700), scene, 1.0)
+    return more, numpy.abs(rgba(result.image) - rgba(more.image)).max()
+
+
 preint_error = None
 for name, blend in (("preint1", "composite"), ("preint2", "composite"), ("iso-analytic", "iso"),
                     ("mip-analytic", "mip"), ("adaptive-ray", "composite"),
@@ -138,8 +147,7 @@ for name, blend in (("preint1", "composite"), ("preint2", "composite"), ("iso-an
     if name == "adaptive-3d":
         # The split must not matter; how close the pyramid comes to its GL-free core is
         # TestAdaptiveSamplingVolumeMapper's to check (printed here for the record).
-        more = renderer.render(Bricked(hm.get_method(name), 700), scene, 1.0)
-        split = numpy.abs(rgba(result.image) - rgba(more.image)).max()
+        more, split = resplit(name, scene, result)
         core = renderer.render("adaptive-cpu", scene, 1.0).image
         error = hm.compare(result.image, core)[0]["rmse"]
         print("4096 x 32 x 32 %-12s %d bricks, %d with at most 700 points a side: largest "
@@ -152,8 +160,7 @@ for name, blend in (("preint1", "composite"), ("preint2", "composite"), ("iso-an
     elif name == "adaptive-ray":
         # No twin: the split must not matter (more bricks draw the same image), and the error
         # against the reference stays what it is for first-order pre-integration at the step.
-        more = renderer.render(Bricked(hm.get_method(name), 700), scene, 1.0)
-        split = numpy.abs(rgba(result.image) - rgba(more.image)).max()
+        more, split = resplit(name, scene, result)
         reference = renderer.render("reference", scene, 1.0).image
         error = hm.compare(result.image, reference)[0]["rmse"]
         print("4096 x 32 x 32 %-12s %d bricks, %d with at most 700 points a side: largest "
