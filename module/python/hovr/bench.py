@@ -48,7 +48,7 @@ takes ``{"table_memory_mib": 256}``: the table memory limit its automatic sizes 
 pixels only (the others are left out of every measure), for volumes too large to integrate
 every pixel. ``"memory": true`` (top level or per dataset) runs each method once more in a
 process of its own and adds ``first_frame_ms`` (its first frame: uploads, tables, shader) and
-``peak_rss_mib`` (the process's peak resident memory, the volume included), and
+``peak_rss_mib`` (the process's own peak resident memory, the volume included), and
 ``volume_rss_mib``, the peak of a process that only loads the volume and opens the window.
 ``"ray_profile": true`` in a dataset adds ``<name>_ray_profile.png``: along the ray of the
 image centre, the trilinear scalar against its piecewise-linear and piecewise-quadratic
