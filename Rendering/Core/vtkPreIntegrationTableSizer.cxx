@@ -92,6 +92,9 @@ struct LazyPieces
   const float* Runs;
   float* Entries;
   std::atomic<unsigned char>* States; // 0: not computed, 1: being computed, 2: ready
+  // The kernel's scratch: Measure() gives each chunk of rays a copy of its own, so that an
+  // entry costs no allocation.
+  mutable std::vector<float> Steps;
 
   void Ensure(vtkIdType index) const
   {
@@ -108,7 +111,7 @@ struct LazyPieces
       const int j = static_cast<int>((index / nc) % nb);
       const int k = static_cast<int>(index / (static_cast<vtkIdType>(nc) * nb));
       const int mirror = nb - 1 - j;
-      std::vector<float> steps;
+      std::vector<float>& steps = this->Steps;
       float forward[4];
       float* entry = this->Entries + 4 * index;
       // As the builder: chord j > mirror is the reversed path of the mirror's.
@@ -185,12 +188,13 @@ struct vtkPreIntegrationTableSizer::vtkInternals
       static_cast<vtkIdType>(this->Rays.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
+        const Pieces chunkPieces(pieces); // with scratch memory of its own
         for (vtkIdType r = begin; r < end; ++r)
         {
           const Ray& ray = this->Rays[r];
           double rgba[4];
           March::Cast(this->Grid,
-            pieces,
+            chunkPieces,
             this->Order,
             this->Step,
             this->Threshold,
