@@ -32,6 +32,7 @@ import sys
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
+from hovr.bench import _rescale_transfer_function as rescale_transfer_function
 from hovr.bench import peak_resident_mib
 from hovrtesting import Checker, tf_path
 
@@ -60,14 +61,8 @@ def scene_for(image, name, size=(48, 48)):
     blend = "iso" if name.startswith("iso") else "mip" if name.startswith("mip") else "composite"
     color, opacity, _ = hio.read_transfer_function(
         tf_path("iso-opaque" if blend == "iso" else "marschner-lobb-spikes"))
+    rescale_transfer_function(color, opacity, image)  # as the bench's tf_to_data_range
     low, high = image.GetPointData().GetScalars().GetRange()
-    for function in (color, opacity):
-        # The presets span [0, 1]: onto the data's range, as the bench's tf_to_data_range.
-        for k in range(function.GetSize()):
-            node = [0.0] * (6 if function is color else 4)
-            function.GetNodeValue(k, node)
-            node[0] = low + node[0] * (high - low)
-            function.SetNodeValue(k, node)
     prop = hio.make_volume_property(color, opacity, 0.05)
     if blend == "iso":
         prop.GetIsoSurfaceValues().SetValue(0, 0.5 * (low + high))
