@@ -194,24 +194,12 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     return DrawNothing;
   }
 
-  // The volume in bricks packed into one texture (an axis may exceed the GPU's 3D texture
-  // size); 8-bit data go up as 16-bit texels of the same values (finer interpolation), and
-  // the layout leaves room for the oracle's float texels.
+  // The volume in bricks packed into atlas pages (an axis may exceed the GPU's 3D texture
+  // size, the volume a texture's bytes); 8-bit data go up as 16-bit texels of the same values
+  // (finer interpolation), and the layout leaves room for the oracle's float texels.
   const bool oracleWanted = this->OracleMode == ORACLE_ARRAY && this->MaximumLevel > 0;
-  // Where the 16-bit texels would exceed MaximumTextureBytes in one texture, 8-bit data keeps
-  // its own texels (interpolated at 8-bit precision on common GPUs) after a warning.
-  const double volumePoints = static_cast<double>(dims[0]) * dims[1] * dims[2];
-  int precision = vtkOpenGLVolumeBricks::WIDE;
-  std::string precisionWarning;
-  if (scalars->GetDataTypeSize() == 1 &&
-    2.0 * volumePoints > static_cast<double>(this->MaximumTextureBytes))
-  {
-    precision = vtkOpenGLVolumeBricks::NATIVE;
-    precisionWarning = "The volume's 8-bit values in 16-bit texels would exceed "
-                       "MaximumTextureBytes in one texture; they are interpolated at 8-bit "
-                       "precision. ";
-  }
-  if (!this->PrepareBricks(ren, scalars, dims, 0, precision, true, oracleWanted ? 4 : 0, 0, true))
+  if (!this->PrepareBricks(
+        ren, scalars, dims, 0, vtkOpenGLVolumeBricks::WIDE, true, oracleWanted ? 4 : 0, 0, true))
   {
     return DrawNothing;
   }
@@ -221,7 +209,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   internal.UseOracle = false;
   // About the precision, the oracle or the counter; given once while it lasts.
-  std::string warning = precisionWarning;
+  std::string warning;
   // With l_max 0 every slice is sampled whatever the oracle says: it is not read.
   if (oracleWanted)
   {
@@ -267,13 +255,18 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
       bricks->SetPrecision(vtkOpenGLVolumeBricks::FLOAT32);
       bricks->SetFiltered(true);
       bricks->SetAtlas(true);
-      if (bricks->Update(context, oracle, dims, why, this->GetBricks()->GetLayout()))
+      if (!bricks->Update(context, oracle, dims, why, this->GetBricks()->GetLayout()))
       {
-        this->OracleTextureMemorySize = bricks->GetMemorySize();
+        why = "the oracle cannot be uploaded: " + why;
+      }
+      else if (bricks->GetNumberOfTextures() != this->GetBricks()->GetNumberOfTextures())
+      {
+        // Both are planned for the oracle's bytes per point, so this is not expected.
+        why = "the oracle's textures do not match the volume's";
       }
       else
       {
-        why = "the oracle cannot be uploaded: " + why;
+        this->OracleTextureMemorySize = bricks->GetMemorySize();
       }
     }
     if (why.empty())
@@ -479,7 +472,8 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     (internal.CountingThisFrame ? "1" : "0") + "\n#define HOVR_TILES " + (layers > 1 ? "1" : "0") +
     "\n#define HOVR_TRICUBIC " +
     (this->Reconstruction == RECONSTRUCTION_TRICUBIC_BSPLINE ? "1" : "0") + "\n" +
-    this->GetBricks()->GetAtlasDefines();
+    this->GetBricks()->GetAtlasDefines() + this->GetBricks()->GetAtlasSamplerCode("hovr_volume") +
+    this->GetBricks()->GetAtlasSamplerCode("hovr_oracle");
   if (switches != internal.Switches)
   {
     internal.Switches = switches;
@@ -504,7 +498,7 @@ void vtkAdaptiveRayVolumeMapper::ActivateExtensionTextures()
   internal.TableTexture->Activate();
   if (internal.UseOracle)
   {
-    internal.OracleBricks->GetTexture(0)->Activate();
+    internal.OracleBricks->Activate(0);
   }
   if (internal.CountingThisFrame)
   {
@@ -529,7 +523,7 @@ void vtkAdaptiveRayVolumeMapper::DeactivateExtensionTextures()
   internal.TableTexture->Deactivate();
   if (internal.UseOracle)
   {
-    internal.OracleBricks->GetTexture(0)->Deactivate();
+    internal.OracleBricks->Deactivate(0);
   }
   if (internal.CountingThisFrame && internal.CounterBuffer != 0)
   {
@@ -586,7 +580,7 @@ void vtkAdaptiveRayVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* 
 {
   Internals& internal = *this->Internal;
   program->SetUniformi("hovr_adaptiveTables", internal.TableTexture->GetTextureUnit());
-  program->SetUniformi("hovr_volume", this->GetBrickTexture()->GetTextureUnit());
+  this->GetBricks()->SetSamplerUniform(program, "hovr_volume", 0);
   this->GetBricks()->SetAtlasUniforms(program);
   program->SetUniformf("hovr_tableLayers", static_cast<float>(internal.UploadedLayers));
   program->SetUniform2f("hovr_tileGrid", internal.TileGrid);
@@ -600,7 +594,7 @@ void vtkAdaptiveRayVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* 
   program->SetUniformf("hovr_sliceStart", internal.SliceStart);
   if (internal.UseOracle)
   {
-    program->SetUniformi("hovr_oracle", internal.OracleBricks->GetTexture(0)->GetTextureUnit());
+    internal.OracleBricks->SetSamplerUniform(program, "hovr_oracle", 0);
     program->SetUniformf("hovr_oracleScale", static_cast<float>(1.0 / this->SampleDistance));
   }
 }

@@ -41,13 +41,13 @@
  * within one voxel of a face the B-spline blends in those copies (and a linear function is
  * reproduced only farther inside). The oracle is always read with one trilinear fetch.
  *
- * The volume and the oracle are read from bricks packed into one texture each
- * (vtkOpenGLVolumeBricks in atlas mode, hovrVolumeAtlas.glsl): a sample reads the brick that
- * owns its cell, so the image does not depend on the split and an axis may be longer than
- * GL_MAX_3D_TEXTURE_SIZE; VTK draws the volume's box from a 2 x 2 x 2 proxy. 8-bit scalars go
- * up as 16-bit texels of the same values, since some OpenGL implementations interpolate 8-bit
- * textures at 8-bit precision, unless those would exceed MaximumTextureBytes (a warning says
- * so). No copy of the volume or the oracle is made on the CPU.
+ * The volume and the oracle are read from bricks packed into the pages of an atlas each
+ * (vtkOpenGLVolumeBricks in atlas mode, hovrVolumeAtlas.glsl; up to 8 textures of at most
+ * MaximumTextureBytes): a sample reads the brick that owns its cell, so the image does not
+ * depend on the split, an axis may be longer than GL_MAX_3D_TEXTURE_SIZE and the volume larger
+ * than one texture; VTK draws the volume's box from a 2 x 2 x 2 proxy. 8-bit scalars go up as
+ * 16-bit texels of the same values, since some OpenGL implementations interpolate 8-bit
+ * textures at 8-bit precision. No copy of the volume or the oracle is made on the CPU.
  *
  * Early ray termination is VTK's (opacity above 1 - 1/255). With OracleMode MINIMUM the image
  * is first-order pre-integration at step Delta on the slice grid: the same as
@@ -68,10 +68,10 @@
  *     opacity, no shading, no cropping and no clipping planes: anything else is drawn by VTK's
  *     stock path after a warning;
  *   - point scalars only (cell scalars go to VTK's stock path after a warning);
- *   - the volume must fit MaximumTextureBytes in one texture: otherwise an error is reported
- *     and nothing is drawn;
- *   - the oracle must be a point array of one finite value per point (any numeric type) that
- *     fits MaximumTextureBytes in one texture; otherwise (a missing array, another number of
+ *   - the volume (and the oracle, in the same bricks) must fit 8 textures of
+ *     MaximumTextureBytes: otherwise an error is reported and nothing is drawn;
+ *   - the oracle must be a point array of one finite value per point (any numeric type);
+ *     otherwise (a missing array, another number of
  *     components or values, NaN or infinite values, too large) a warning says so and the
  *     frame is drawn at the full rate (d = 1, as MINIMUM);
  *   - the sample distance is fixed (automatic adjustment is off) and must be positive and

@@ -274,13 +274,13 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
   {
     glUniform1d(spacingLocation, frame.SliceSpacing);
   }
-  frame.Volume->Activate();
-  frame.Oracle->Activate();
+  frame.Volume->Activate(0);
+  frame.Oracle->Activate(0);
   frame.Tables->Activate();
-  program->SetUniformi("volumeIndex", frame.Volume->GetTextureUnit());
-  program->SetUniformi("oracleWorld", frame.Oracle->GetTextureUnit());
+  frame.Volume->SetSamplerUniform(program, "volumeIndex", 0);
+  frame.Oracle->SetSamplerUniform(program, "oracleWorld", 0);
   program->SetUniformi("tables", frame.Tables->GetTextureUnit());
-  frame.Bricks->SetAtlasUniforms(program);
+  frame.Volume->SetAtlasUniforms(program);
   const float rawToIndex[2] = { static_cast<float>(frame.RawToIndex[0]),
     static_cast<float>(frame.RawToIndex[1]) };
   program->SetUniform2f("rawToIndex", rawToIndex);
@@ -341,8 +341,8 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
       ++passes;
     }
   }
-  frame.Volume->Deactivate();
-  frame.Oracle->Deactivate();
+  frame.Volume->Deactivate(0);
+  frame.Oracle->Deactivate(0);
   frame.Tables->Deactivate();
   return passes;
 }

@@ -49,13 +49,12 @@ public:
     // can matter, from Rectangle (level-0 pixels, first x, first y, last x, last y).
     bool Count = false;
     int Rectangle[4] = { 0, 0, 0, 0 };
-    // The volume's and the oracle's bricks in one texture each (the same tiles, whose
-    // uniforms Bricks sets), the volume's raw values mapped to table indices by
+    // The volume's and the oracle's bricks in atlas pages (the same pages and tiles, whose
+    // uniforms Volume sets), the volume's raw values mapped to table indices by
     // raw * RawToIndex[0] + RawToIndex[1].
-    vtkTextureObject* Volume = nullptr;
-    vtkTextureObject* Oracle = nullptr;
+    vtkOpenGLVolumeBricks* Volume = nullptr;
+    vtkOpenGLVolumeBricks* Oracle = nullptr;
     vtkTextureObject* Tables = nullptr;
-    const vtkOpenGLVolumeBricks* Bricks = nullptr;
     double RawToIndex[2] = { 1.0, 0.0 };
   };
 

@@ -377,6 +377,13 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
       vtkErrorMacro("Cannot upload the oracle: " << why << "; nothing is drawn.");
       return;
     }
+    // Both are planned for the oracle's bytes per point, so they take the same pages.
+    if (oracle &&
+      internal.OracleBricks->GetNumberOfTextures() != volumeBricks->GetNumberOfTextures())
+    {
+      vtkErrorMacro("The oracle's textures do not match the volume's; nothing is drawn.");
+      return;
+    }
   }
   double scale, shift;
   volumeBricks->GetValueMapping(scale, shift);
@@ -433,8 +440,12 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   // The pyramid over the padded viewport.
   const int paddedWidth = (width + block - 1) / block * block;
   const int paddedHeight = (height + block - 1) / block * block;
-  if (!internal.Pyramid.Prepare(
-        context, lmax, paddedWidth, paddedHeight, volumeBricks->GetAtlasDefines()))
+  if (!internal.Pyramid.Prepare(context,
+        lmax,
+        paddedWidth,
+        paddedHeight,
+        volumeBricks->GetAtlasDefines() + volumeBricks->GetAtlasSamplerCode("volumeIndex") +
+          volumeBricks->GetAtlasSamplerCode("oracleWorld")))
   {
     vtkErrorMacro("The pyramid pass shader did not compile (it needs "
                   "GL_ARB_gpu_shader_fp64); nothing is drawn.");
@@ -459,11 +470,10 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   frame.MinimumOracle = this->OracleMode == ORACLE_MINIMUM;
   frame.EarlyTermination = this->EarlyRayTermination;
   frame.Count = this->CountOperations;
-  frame.Volume = volumeBricks->GetTexture(0);
-  // The minimum oracle reads nothing; its sampler gets the volume's texture.
-  frame.Oracle = oracle ? internal.OracleBricks->GetTexture(0) : frame.Volume;
+  frame.Volume = volumeBricks;
+  // The minimum oracle reads nothing; its samplers get the volume's textures.
+  frame.Oracle = oracle ? internal.OracleBricks.Get() : volumeBricks;
   frame.Tables = internal.TableTexture;
-  frame.Bricks = volumeBricks;
   frame.RawToIndex[0] = scale * toIndex;
   frame.RawToIndex[1] = (shift - range[0]) * toIndex;
   {

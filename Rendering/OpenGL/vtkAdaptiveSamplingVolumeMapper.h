@@ -53,9 +53,10 @@
  *   - the image is composited over what is drawn, without a depth test against opaque
  *     geometry;
  *   - the volume (in its own type, 64-bit types as floats) and the oracle (floats) are read
- *     from bricks packed into one texture each (vtkOpenGLVolumeBricks in atlas mode: an axis
- *     may be longer than GL_MAX_3D_TEXTURE_SIZE, and the split does not change the image), each
- *     within MaximumTextureBytes.
+ *     from bricks packed into the pages of an atlas each (vtkOpenGLVolumeBricks in atlas
+ *     mode: an axis may be longer than GL_MAX_3D_TEXTURE_SIZE, the volume larger than one
+ *     texture, and the split does not change the image), at most 8 textures of
+ *     MaximumTextureBytes each.
  *
  * @sa vtkAdaptiveSamplingRayCaster vtkAdaptiveSamplingOracle vtkFirstOrderPreIntegrationTable
  */

@@ -254,6 +254,12 @@ vtkIdType vtkExtensibleGPUVolumeRayCastMapper::GetBrickTextureMemorySize()
 }
 
 //------------------------------------------------------------------------------
+int vtkExtensibleGPUVolumeRayCastMapper::GetNumberOfBrickTextures()
+{
+  return this->Bricks->GetNumberOfTextures();
+}
+
+//------------------------------------------------------------------------------
 int vtkExtensibleGPUVolumeRayCastMapper::GetBrickUploadCount()
 {
   return this->Bricks->GetUploadCount();
@@ -371,12 +377,11 @@ void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVo
     this->Proxy->SetOrigin(origin);
     this->Proxy->SetSpacing(spacing);
     this->Proxy->Modified();
-    vtkTextureObject* texture = this->GetBrickTexture();
-    texture->Activate();
+    this->Bricks->Activate(this->CurrentBrick);
     this->ActivateExtensionTextures();
     this->Superclass::GPURender(ren, vol);
     this->DeactivateExtensionTextures();
-    texture->Deactivate();
+    this->Bricks->Deactivate(this->CurrentBrick);
   }
   slot = saved;
   this->CurrentBrick = 0;

@@ -128,6 +128,12 @@ public:
   vtkIdType GetBrickTextureMemorySize();
 
   /**
+   * Textures the last bricked frame's bricks took: one per brick, or, for the methods that pack
+   * them into an atlas, its pages (each within MaximumTextureBytes).
+   */
+  int GetNumberOfBrickTextures();
+
+  /**
    * Bricks uploaded since the mapper was made: each brick once per new or changed volume or
    * brick layout, none for a frame that only moves the camera or edits the transfer function.
    */

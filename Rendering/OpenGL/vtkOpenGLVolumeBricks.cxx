@@ -113,7 +113,68 @@ vtkTextureObject* vtkOpenGLVolumeBricks::GetTexture(int brick) const
   {
     return nullptr;
   }
-  return this->Textures[this->Atlas ? 0 : brick].Get();
+  if (!this->Atlas)
+  {
+    return this->Textures[brick].Get();
+  }
+  const int perPage = this->AtlasTiles[0] * this->AtlasTiles[1] * this->AtlasTiles[2];
+  return this->Textures[std::min(brick / perPage, this->GetNumberOfTextures() - 1)].Get();
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLVolumeBricks::Activate(int brick)
+{
+  if (this->Atlas)
+  {
+    for (auto& texture : this->Textures)
+    {
+      texture->Activate();
+    }
+  }
+  else if (vtkTextureObject* texture = this->GetTexture(brick))
+  {
+    texture->Activate();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLVolumeBricks::Deactivate(int brick)
+{
+  if (this->Atlas)
+  {
+    for (auto& texture : this->Textures)
+    {
+      texture->Deactivate();
+    }
+  }
+  else if (vtkTextureObject* texture = this->GetTexture(brick))
+  {
+    texture->Deactivate();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLVolumeBricks::SetSamplerUniform(vtkShaderProgram* program,
+  const char* name,
+  int brick) const
+{
+  if (!this->Atlas)
+  {
+    if (vtkTextureObject* texture = this->GetTexture(brick))
+    {
+      program->SetUniformi(name, texture->GetTextureUnit());
+    }
+    return;
+  }
+  std::vector<int> units;
+  for (const auto& texture : this->Textures)
+  {
+    units.push_back(texture->GetTextureUnit());
+  }
+  if (!units.empty())
+  {
+    program->SetUniform1iv(name, static_cast<int>(units.size()), units.data());
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -180,9 +241,12 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     this->Shift = -format.Offset;
   }
 
-  // Atlas mode: one texture of tiles the size of the largest brick.
+  // Atlas mode: pages of tiles the size of the largest brick, planned for the layout's bytes
+  // per point so that another array in the same layout gets the same pages.
   const int bricks = layout->GetNumberOfBricks();
-  if (this->Atlas && !this->PlanAtlas(context, layout, format.Bytes, why))
+  std::fill(this->AtlasTiles, this->AtlasTiles + 3, 1);
+  if (this->Atlas &&
+    !this->PlanAtlas(context, layout, std::max(format.Bytes, layout->GetBytesPerPoint()), why))
   {
     return false;
   }
@@ -201,6 +265,7 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
   std::vector<unsigned short> shorts;
   std::vector<unsigned char> bytes;
   vtkSmartPointer<vtkTextureObject> texture;
+  const int perPage = this->AtlasTiles[0] * this->AtlasTiles[1] * this->AtlasTiles[2];
   for (int b = 0; b < bricks && why.empty(); ++b)
   {
     int points[6], size[3];
@@ -208,16 +273,19 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     layout->GetBrickSize(b, size);
     int offset[3] = { 0, 0, 0 };
     const int* created = size;
+    // Atlas mode: a page begins at every perPage-th brick.
+    const bool first = !this->Atlas || b % perPage == 0;
     if (this->Atlas)
     {
-      offset[0] = this->AtlasTileSize[0] * (b % this->AtlasTiles[0]);
-      offset[1] = this->AtlasTileSize[1] * ((b / this->AtlasTiles[0]) % this->AtlasTiles[1]);
-      offset[2] = this->AtlasTileSize[2] * (b / (this->AtlasTiles[0] * this->AtlasTiles[1]));
+      const int tile = b % perPage;
+      offset[0] = this->AtlasTileSize[0] * (tile % this->AtlasTiles[0]);
+      offset[1] = this->AtlasTileSize[1] * ((tile / this->AtlasTiles[0]) % this->AtlasTiles[1]);
+      offset[2] = this->AtlasTileSize[2] * (tile / (this->AtlasTiles[0] * this->AtlasTiles[1]));
       created = this->AtlasSize;
     }
     bool ok = true;
     GLenum error = GL_NO_ERROR;
-    if (!this->Atlas || b == 0)
+    if (first)
     {
       texture = vtkSmartPointer<vtkTextureObject>::New();
       texture->SetContext(context);
@@ -277,8 +345,8 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
       message << "OpenGL could not create ";
       if (this->Atlas)
       {
-        message << "the " << created[0] << " x " << created[1] << " x " << created[2]
-                << " texture of the volume's bricks";
+        message << "texture " << b / perPage + 1 << " of " << this->AtlasPages << " (" << created[0]
+                << " x " << created[1] << " x " << created[2] << ") of the volume's bricks";
       }
       else
       {
@@ -291,7 +359,7 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
       why = message.str();
       break;
     }
-    if (!this->Atlas || b == 0)
+    if (first)
     {
       texture->SetWrapS(vtkTextureObject::ClampToEdge);
       texture->SetWrapT(vtkTextureObject::ClampToEdge);
@@ -353,57 +421,59 @@ bool vtkOpenGLVolumeBricks::PlanAtlas(vtkOpenGLRenderWindow* context,
       this->AtlasCuts[a * stride + p + 1] = cells[2 * a + 1];
     }
   }
-  // The fewest tiles (then the smallest largest axis) that hold the bricks within the GPU's
-  // largest 3D texture.
+  // The fewest pages, then the fewest tiles a page (then the smallest largest axis), that hold
+  // the bricks within the GPU's largest 3D texture and the bytes a texture may take.
   const int largest = std::max(vtkTextureObject::GetMaximumTextureSize3D(context), 2);
-  long long best = -1, bestAxis = 0;
+  const double maximumBytes = layout->GetMaximumBrickBytes();
   const int limit[3] = { largest / this->AtlasTileSize[0],
     largest / this->AtlasTileSize[1],
     largest / this->AtlasTileSize[2] };
-  for (int t0 = 1; t0 <= std::min(limit[0], bricks); ++t0)
+  const double tileBytes = static_cast<double>(this->AtlasTileSize[0]) * this->AtlasTileSize[1] *
+    this->AtlasTileSize[2] * bytesPerTexel;
+  long long best = -1;
+  for (int pages = 1; pages <= std::min(MaximumAtlasPages, bricks) && best < 0; ++pages)
   {
-    for (int t1 = 1; t1 <= std::min(limit[1], bricks); ++t1)
+    const int wanted = (bricks + pages - 1) / pages;
+    long long bestAxis = 0;
+    for (int t0 = 1; t0 <= std::min(limit[0], wanted); ++t0)
     {
-      const int t2 = (bricks + t0 * t1 - 1) / (t0 * t1);
-      if (t2 > limit[2])
+      for (int t1 = 1; t1 <= std::min(limit[1], wanted); ++t1)
       {
-        continue;
-      }
-      const long long tiles = static_cast<long long>(t0) * t1 * t2;
-      const long long axis = std::max({ static_cast<long long>(t0) * this->AtlasTileSize[0],
-        static_cast<long long>(t1) * this->AtlasTileSize[1],
-        static_cast<long long>(t2) * this->AtlasTileSize[2] });
-      if (best < 0 || tiles < best || (tiles == best && axis < bestAxis))
-      {
-        best = tiles;
-        bestAxis = axis;
-        this->AtlasTiles[0] = t0;
-        this->AtlasTiles[1] = t1;
-        this->AtlasTiles[2] = t2;
+        const int t2 = (wanted + t0 * t1 - 1) / (t0 * t1);
+        const long long tiles = static_cast<long long>(t0) * t1 * t2;
+        if (t2 > limit[2] || static_cast<double>(tiles) * tileBytes > maximumBytes)
+        {
+          continue;
+        }
+        const long long axis = std::max({ static_cast<long long>(t0) * this->AtlasTileSize[0],
+          static_cast<long long>(t1) * this->AtlasTileSize[1],
+          static_cast<long long>(t2) * this->AtlasTileSize[2] });
+        if (best < 0 || tiles < best || (tiles == best && axis < bestAxis))
+        {
+          best = tiles;
+          bestAxis = axis;
+          this->AtlasTiles[0] = t0;
+          this->AtlasTiles[1] = t1;
+          this->AtlasTiles[2] = t2;
+          this->AtlasPages = (bricks + static_cast<int>(tiles) - 1) / static_cast<int>(tiles);
+        }
       }
     }
   }
-  std::ostringstream message;
   if (best < 0)
   {
+    std::ostringstream message;
     message << "the volume's " << bricks << " bricks of up to " << this->AtlasTileSize[0] << " x "
-            << this->AtlasTileSize[1] << " x " << this->AtlasTileSize[2]
-            << " points do not fit in one 3D texture of at most " << largest << " points a side";
+            << this->AtlasTileSize[1] << " x " << this->AtlasTileSize[2] << " points ("
+            << tileBytes / 1048576.0 << " MiB each) do not fit in " << MaximumAtlasPages
+            << " 3D textures of at most " << largest << " points a side and "
+            << maximumBytes / 1048576.0 << " MiB";
     why = message.str();
     return false;
   }
   for (int a = 0; a < 3; ++a)
   {
     this->AtlasSize[a] = this->AtlasTiles[a] * this->AtlasTileSize[a];
-  }
-  const double total = static_cast<double>(this->AtlasSize[0]) * this->AtlasSize[1] *
-    this->AtlasSize[2] * bytesPerTexel;
-  if (total > layout->GetMaximumBrickBytes())
-  {
-    message << "the volume needs one texture of " << total / 1048576.0 << " MiB, over the "
-            << layout->GetMaximumBrickBytes() / 1048576.0 << " MiB a texture may take";
-    why = message.str();
-    return false;
   }
   return true;
 }
@@ -412,7 +482,36 @@ bool vtkOpenGLVolumeBricks::PlanAtlas(vtkOpenGLRenderWindow* context,
 std::string vtkOpenGLVolumeBricks::GetAtlasDefines() const
 {
   const int cuts = this->AtlasCuts.empty() ? 2 : static_cast<int>(this->AtlasCuts.size() / 3);
-  return "#define HOVR_ATLAS_CUTS " + std::to_string(cuts) + "\n";
+  const int pages = this->Atlas ? std::max(this->GetNumberOfTextures(), 1) : 1;
+  return "#define HOVR_ATLAS_CUTS " + std::to_string(cuts) + "\n#define HOVR_ATLAS_PAGES " +
+    std::to_string(pages) + "\n";
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLVolumeBricks::GetAtlasSamplerCode(const std::string& name) const
+{
+  // GLSL indexes sampler arrays by constants only: one branch per page.
+  const int pages = this->Atlas ? std::max(this->GetNumberOfTextures(), 1) : 1;
+  std::ostringstream code;
+  code << "uniform sampler3D " << name << "[" << pages << "];\n";
+  const char* readers[2][3] = {
+    { "vec4 ", "_texture(int page, vec3 coordinate)", "textureLod(%, coordinate, 0.0)" },
+    { "vec4 ", "_texelFetch(int page, ivec3 texel)", "texelFetch(%, texel, 0)" }
+  };
+  for (const auto& reader : readers)
+  {
+    code << reader[0] << name << reader[1] << "\n{\n";
+    for (int p = pages - 1; p >= 0; --p)
+    {
+      std::string call = reader[2];
+      call.replace(call.find('%'), 1, name + "[" + std::to_string(p) + "]");
+      code << (p > 0
+          ? "  if (page == " + std::to_string(p) + ")\n  {\n    return " + call + ";\n  }\n"
+          : "  return " + call + ";\n");
+    }
+    code << "}\n";
+  }
+  return code.str();
 }
 
 //------------------------------------------------------------------------------
@@ -459,6 +558,7 @@ void vtkOpenGLVolumeBricks::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Precision: " << this->Precision << "\n";
   os << indent << "Filtered: " << this->Filtered << "\n";
   os << indent << "Atlas: " << this->Atlas << "\n";
+  os << indent << "AtlasPages: " << (this->Atlas ? this->GetNumberOfTextures() : 0) << "\n";
   os << indent << "MinimumBytesPerPoint: " << this->MinimumBytesPerPoint << "\n";
   os << indent << "NumberOfBricks: " << this->GetNumberOfBricks() << "\n";
   os << indent << "MemorySize: " << this->MemorySize << "\n";

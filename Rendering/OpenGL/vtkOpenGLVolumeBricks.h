@@ -18,12 +18,13 @@
  * reaches the texture only through R32F. Arrays of 3 components (normals) are uploaded as
  * RGB32F, as they are.
  *
- * With Atlas on, the bricks are packed into one 3D texture instead, tile b of a grid of tiles
- * holding brick b's points: a renderer whose rays cross the whole volume in one pass reads
- * the brick that owns the cell a sample lies in (hovrVolumeAtlas.glsl), so that every
+ * With Atlas on, the bricks are packed into a few 3D textures instead (the atlas's pages, each
+ * within GL_MAX_3D_TEXTURE_SIZE and the layout's MaximumBrickBytes), tile b of a page's grid of
+ * tiles holding the page's brick b: a renderer whose rays cross the whole volume in one pass
+ * reads the brick that owns the cell a sample lies in (hovrVolumeAtlas.glsl), so that every
  * trilinear sample is the volume's own (neighbouring bricks share their face points; the
- * layout needs no ghosts). That lifts the limit on an axis (GL_MAX_3D_TEXTURE_SIZE) but not on
- * the bytes: the atlas is one texture within the layout's MaximumBrickBytes.
+ * layout needs no ghosts). That lifts the limits on an axis and on the bytes of one texture;
+ * the pages are at most MaximumAtlasPages.
  *
  * A value class of hovr's mappers (a vtkObject for reference counting), not wrapped.
  */
@@ -113,19 +114,51 @@ public:
     vtkVolumeBrickLayout* layout = nullptr);
 
   /**
-   * Bricks of the last upload (0 without one), and brick b's texture (the atlas for every
-   * brick in atlas mode).
+   * Bricks of the last upload (0 without one), and brick b's texture (in atlas mode, the page
+   * that holds it).
    */
   int GetNumberOfBricks() const { return this->Textures.empty() ? 0 : this->BrickCount; }
   vtkTextureObject* GetTexture(int brick) const;
 
   /**
-   * Atlas mode: the most cuts along an axis (pieces + 1) that the GLSL's cut array holds, as
-   * "#define HOVR_ATLAS_CUTS n" (hovrVolumeAtlas.glsl needs it before it), and the uniforms
-   * that place the bricks (hovr_atlas*; the sampler itself is the caller's).
+   * Atlas mode: the most textures (pages) the bricks may take, each sampler of a shader taking
+   * one texture unit per page.
+   */
+  static constexpr int MaximumAtlasPages = 8;
+
+  /**
+   * Textures of the last upload: one per brick, or the atlas's pages.
+   */
+  int GetNumberOfTextures() const { return static_cast<int>(this->Textures.size()); }
+
+  /**
+   * Activate (bind to texture units) the textures a draw of brick b reads: in atlas mode every
+   * page; Deactivate releases them.
+   */
+  void Activate(int brick);
+  void Deactivate(int brick);
+
+  /**
+   * After Activate(brick): point the shader's sampler `name` at them (in atlas mode an array
+   * of one sampler per page, as GetAtlasSamplerCode declares it).
+   */
+  void SetSamplerUniform(vtkShaderProgram* program, const char* name, int brick) const;
+
+  /**
+   * Atlas mode: the most cuts along an axis (pieces + 1) that the GLSL's cut array holds and
+   * the pages, as "#define HOVR_ATLAS_CUTS n" and "#define HOVR_ATLAS_PAGES p"
+   * (hovrVolumeAtlas.glsl needs them before it), and the uniforms that place the bricks
+   * (hovr_atlas*; the samplers themselves are the caller's, SetSamplerUniform).
    */
   std::string GetAtlasDefines() const;
   void SetAtlasUniforms(vtkShaderProgram* program) const;
+
+  /**
+   * Atlas mode: GLSL declaring the sampler array `name` (one per page) and its readers
+   * name_texture(int page, vec3 coordinate) and name_texelFetch(int page, ivec3 texel), which
+   * read the page that hovr_atlasCoord or hovr_atlasTexel gave.
+   */
+  std::string GetAtlasSamplerCode(const std::string& name) const;
 
   /**
    * data value = raw texture value * scale + shift, for every brick.
@@ -167,7 +200,8 @@ private:
   int BrickCount = 0;
   int AtlasTiles[3] = { 1, 1, 1 };    // tiles along the atlas's axes
   int AtlasTileSize[3] = { 1, 1, 1 }; // texels of a tile
-  int AtlasSize[3] = { 1, 1, 1 };
+  int AtlasSize[3] = { 1, 1, 1 };     // texels of a page
+  int AtlasPages = 1;
   std::vector<int> AtlasCuts; // the layout's cuts, HOVR_ATLAS_CUTS per axis
   int AtlasPieces[3] = { 1, 1, 1 };
   int AtlasDimensions[3] = { 2, 2, 2 };

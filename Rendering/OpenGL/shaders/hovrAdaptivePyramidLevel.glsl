@@ -47,11 +47,11 @@ uniform sampler2D previousIn;
 uniform sampler2D colourIn;
 uniform sampler2D coarseState; // level + 1, this slice
 uniform sampler2D fineState;   // level - 1, its last pass (terminated flags)
-uniform sampler3D volumeIndex;  // the scalars, float, in the atlas's tiles
-uniform vec2 rawToIndex;        // their table index: raw * x + y
-uniform sampler3D oracleWorld;  // oracle distances, world units, in the same tiles
-
+// The atlas (hovrVolumeAtlas.glsl) and its samplers (GetAtlasSamplerCode): volumeIndex, the
+// scalars in their own type, and oracleWorld, oracle distances in world units, in the same
+// tiles.
 //HOVR::Atlas
+uniform vec2 rawToIndex;        // the scalars' table index: raw * x + y
 uniform sampler3D tables;       // tableSize x tableSize x 2^l_max segment tables
 
 // The trilinear value at p (0-based continuous grid index), clamped to the box of the points:
@@ -69,15 +69,16 @@ float hovrSampleVolume(dvec3 p)
   dvec3 wd;
   hovrCell(p, c, wd);
   vec3 w = vec3(wd);
-  c = hovr_atlasTexel(c);
-  float v000 = texelFetch(volumeIndex, c, 0).r;
-  float v100 = texelFetch(volumeIndex, c + ivec3(1, 0, 0), 0).r;
-  float v010 = texelFetch(volumeIndex, c + ivec3(0, 1, 0), 0).r;
-  float v110 = texelFetch(volumeIndex, c + ivec3(1, 1, 0), 0).r;
-  float v001 = texelFetch(volumeIndex, c + ivec3(0, 0, 1), 0).r;
-  float v101 = texelFetch(volumeIndex, c + ivec3(1, 0, 1), 0).r;
-  float v011 = texelFetch(volumeIndex, c + ivec3(0, 1, 1), 0).r;
-  float v111 = texelFetch(volumeIndex, c + ivec3(1, 1, 1), 0).r;
+  int page;
+  c = hovr_atlasTexel(c, page);
+  float v000 = volumeIndex_texelFetch(page, c).r;
+  float v100 = volumeIndex_texelFetch(page, c + ivec3(1, 0, 0)).r;
+  float v010 = volumeIndex_texelFetch(page, c + ivec3(0, 1, 0)).r;
+  float v110 = volumeIndex_texelFetch(page, c + ivec3(1, 1, 0)).r;
+  float v001 = volumeIndex_texelFetch(page, c + ivec3(0, 0, 1)).r;
+  float v101 = volumeIndex_texelFetch(page, c + ivec3(1, 0, 1)).r;
+  float v011 = volumeIndex_texelFetch(page, c + ivec3(0, 1, 1)).r;
+  float v111 = volumeIndex_texelFetch(page, c + ivec3(1, 1, 1)).r;
   float c00 = v000 + w.x * (v100 - v000);
   float c10 = v010 + w.x * (v110 - v010);
   float c01 = v001 + w.x * (v101 - v001);
@@ -93,15 +94,16 @@ double hovrSampleOracle(dvec3 p)
   ivec3 c;
   dvec3 w;
   hovrCell(p, c, w);
-  c = hovr_atlasTexel(c);
-  double v000 = double(texelFetch(oracleWorld, c, 0).r);
-  double v100 = double(texelFetch(oracleWorld, c + ivec3(1, 0, 0), 0).r);
-  double v010 = double(texelFetch(oracleWorld, c + ivec3(0, 1, 0), 0).r);
-  double v110 = double(texelFetch(oracleWorld, c + ivec3(1, 1, 0), 0).r);
-  double v001 = double(texelFetch(oracleWorld, c + ivec3(0, 0, 1), 0).r);
-  double v101 = double(texelFetch(oracleWorld, c + ivec3(1, 0, 1), 0).r);
-  double v011 = double(texelFetch(oracleWorld, c + ivec3(0, 1, 1), 0).r);
-  double v111 = double(texelFetch(oracleWorld, c + ivec3(1, 1, 1), 0).r);
+  int page;
+  c = hovr_atlasTexel(c, page);
+  double v000 = double(oracleWorld_texelFetch(page, c).r);
+  double v100 = double(oracleWorld_texelFetch(page, c + ivec3(1, 0, 0)).r);
+  double v010 = double(oracleWorld_texelFetch(page, c + ivec3(0, 1, 0)).r);
+  double v110 = double(oracleWorld_texelFetch(page, c + ivec3(1, 1, 0)).r);
+  double v001 = double(oracleWorld_texelFetch(page, c + ivec3(0, 0, 1)).r);
+  double v101 = double(oracleWorld_texelFetch(page, c + ivec3(1, 0, 1)).r);
+  double v011 = double(oracleWorld_texelFetch(page, c + ivec3(0, 1, 1)).r);
+  double v111 = double(oracleWorld_texelFetch(page, c + ivec3(1, 1, 1)).r);
   double c00 = v000 + w.x * (v100 - v000);
   double c10 = v010 + w.x * (v110 - v010);
   double c01 = v001 + w.x * (v101 - v001);

@@ -50,22 +50,30 @@ uniform int hovr_perspective;          // slices are spheres around the eye, els
 uniform vec3 hovr_sliceOrigin;         // parallel: a point of slice 0 (dataset coordinates)
 uniform float hovr_sliceStart;         // perspective: the radius of slice 0
 #if HOVR_ORACLE
-uniform sampler3D hovr_oracle;  // oracle distance in world units, the volume's atlas tiles
+// hovr_oracle (GetAtlasSamplerCode): oracle distance in world units, the volume's atlas tiles
 uniform float hovr_oracleScale; // 1 / Delta
 #endif
 #if HOVR_COUNT_SAMPLES
 layout(binding = 0, offset = 0) uniform atomic_uint hovr_sampleCounter;
 #endif
 
-// The volume's bricks in one texture (hovrVolumeAtlas.glsl), read by the volume's grid index;
-// VTK's own texture is a proxy of the volume's box, whose texture coordinates g_dataPos are.
-uniform sampler3D hovr_volume;
+// The volume's bricks in the atlas's pages (hovrVolumeAtlas.glsl; the sampler hovr_volume
+// from GetAtlasSamplerCode), read by the volume's grid index; VTK's own texture is a proxy of
+// the volume's box, whose texture coordinates g_dataPos are.
 
 // The volume's 0-based grid index of a position in VTK's texture coordinates.
 vec3 hovr_gridOf(vec3 pos)
 {
   return (pos - in_texMin[0]) / (in_texMax[0] - in_texMin[0]) *
     vec3(hovr_atlasGrid[0], hovr_atlasGrid[1], hovr_atlasGrid[2]);
+}
+
+// The trilinear raw value at p (0-based grid index).
+float hovr_volumeAt(vec3 p)
+{
+  int page;
+  vec3 coordinate = hovr_atlasCoord(p, page);
+  return hovr_volume_texture(page, coordinate).r;
 }
 
 #if HOVR_TRICUBIC
@@ -90,14 +98,14 @@ float hovr_volumeValue(vec3 pos)
   vec3 g1 = 1.0 - g0;
   vec3 t0 = i - 1.0 + w1 / g0;
   vec3 t1 = i + 1.0 + w3 / g1;
-  float v000 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t0.y, t0.z))).r;
-  float v100 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t0.y, t0.z))).r;
-  float v010 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t1.y, t0.z))).r;
-  float v110 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t1.y, t0.z))).r;
-  float v001 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t0.y, t1.z))).r;
-  float v101 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t0.y, t1.z))).r;
-  float v011 = texture(hovr_volume, hovr_atlasCoord(vec3(t0.x, t1.y, t1.z))).r;
-  float v111 = texture(hovr_volume, hovr_atlasCoord(vec3(t1.x, t1.y, t1.z))).r;
+  float v000 = hovr_volumeAt(vec3(t0.x, t0.y, t0.z));
+  float v100 = hovr_volumeAt(vec3(t1.x, t0.y, t0.z));
+  float v010 = hovr_volumeAt(vec3(t0.x, t1.y, t0.z));
+  float v110 = hovr_volumeAt(vec3(t1.x, t1.y, t0.z));
+  float v001 = hovr_volumeAt(vec3(t0.x, t0.y, t1.z));
+  float v101 = hovr_volumeAt(vec3(t1.x, t0.y, t1.z));
+  float v011 = hovr_volumeAt(vec3(t0.x, t1.y, t1.z));
+  float v111 = hovr_volumeAt(vec3(t1.x, t1.y, t1.z));
   // mix(a, b, g1) = g0 a + g1 b along x, then y, then z.
   return mix(mix(mix(v000, v100, g1.x), mix(v010, v110, g1.x), g1.y),
     mix(mix(v001, v101, g1.x), mix(v011, v111, g1.x), g1.y), g1.z);
@@ -105,7 +113,7 @@ float hovr_volumeValue(vec3 pos)
 #else
 float hovr_volumeValue(vec3 pos)
 {
-  return texture(hovr_volume, hovr_atlasCoord(hovr_gridOf(pos))).r;
+  return hovr_volumeAt(hovr_gridOf(pos));
 }
 #endif
 
@@ -202,7 +210,9 @@ void hovr_adaptiveStep()
   hovr_sFront = s;
   hovr_frontSlice = hovr_slice;
 #if HOVR_ORACLE
-  float oracle = texture(hovr_oracle, hovr_atlasCoord(hovr_gridOf(g_dataPos))).r;
+  int page;
+  vec3 coordinate = hovr_atlasCoord(hovr_gridOf(g_dataPos), page);
+  float oracle = hovr_oracle_texture(page, coordinate).r;
   float d = max(oracle * hovr_oracleScale, 1.0);
 #else
   float d = 1.0;

@@ -13,7 +13,8 @@ Gaussian blobs (33^3, float) with their vtkAdaptiveSamplingOracle array, 64 x 64
 - a sample distance of 0, -1, NaN or infinity is an error and draws nothing (alpha 0);
 - Shade on, and cropping, give a warning and VTK's stock image (the same as
   vtkOpenGLGPUVolumeRayCastMapper's, max 1e-6);
-- a volume one voxel thick is an error and draws nothing;
+- a volume one voxel thick is an error and draws nothing; so is one that MaximumTextureBytes
+  would split into more textures than the atlas's 8 pages;
 - a camera inside the volume (rays start on the near plane) draws without a message the image
   of vtkPreIntegrationVolumeMapper up to their tables: within 5e-3 RMSE, what tables of 128
   entries on different axes make of the outside views below (about 6e-3 there, 8e-4 here; a
@@ -213,6 +214,14 @@ slab = image_from_array(numpy.full((1, 33, 33), 100.0, numpy.float32))
 image, messages = draw(adaptive(OracleMode=1), slab)
 c.check(said(messages, "errors", "at least 2 points") and image[..., 3].max() == 0.0,
         "one voxel thick: an error, nothing drawn (%s)" % messages.errors)
+
+# 33^3 float points (140 KiB, the oracle as much) within textures of at most 4 KiB: more than
+# the atlas's 8 pages.
+image, messages = draw(adaptive(MaximumTextureBytes=4096), good)
+c.check(said(messages, "errors", "do not fit in 8 3D textures") and
+        image[..., 3].max() == 0.0,
+        "a volume beyond 8 textures of MaximumTextureBytes: an error, nothing drawn (%s)"
+        % messages.errors)
 
 inside = hio.default_camera(good.GetBounds())
 centre = [0.5 * (good.GetBounds()[2 * a] + good.GetBounds()[2 * a + 1]) for a in range(3)]

@@ -4,7 +4,7 @@ hold are drawn right.
 1. Marschner-Lobb on 256^3 points (float), 64 x 64, in one piece and in forced bricks of 64
    cells a side (MaximumBrickSize 65; pre-integration's ghost points make its bricks smaller
    still): first- and second-order pre-integration, unshaded and shaded, the adaptive ray
-   (trilinear and tricubic: its bricks are tiles of one texture), the adaptive slice pyramid
+   (trilinear and tricubic: its bricks are tiles of an atlas texture), the adaptive slice pyramid
    (parallel projection; tiles too), and the analytic
    isosurface, maximum and minimum projections. The images must agree to within float
    rounding: at most 2e-4 on any pixel and channel (the texture unit's 8-bit interpolation
@@ -20,6 +20,9 @@ hold are drawn right.
    first-order pre-integration's RMSE to the reference (TestAdaptiveRayVolumeMapper's bound),
    the slice pyramid the same in more bricks (to 1e-6: its samples read the same texels), and
    the analytic methods within the small tests' limits of the reference.
+3. The 256^3 volume of 1. with MaximumTextureBytes 24 MiB: the adaptive ray (trilinear and
+   tricubic) and the slice pyramid pack its bricks (and the oracle's) into at least 3 textures
+   and draw the image of one texture, to 2e-4 as in 1.
 """
 
 import numpy
@@ -39,17 +42,20 @@ class Bricked(hm.Method):
     """A method with its mapper's MaximumBrickSize (and, for pre-integration, no early ray
     termination and float table texels), keeping the mapper."""
 
-    def __init__(self, base, bricks):
+    def __init__(self, base, bricks, texture_bytes=0):
         self.base = base
         self.bricks = bricks
+        self.texture_bytes = texture_bytes
         self.mapper = None
-        super().__init__("%s-bricks%d" % (base.name, bricks), "")
+        super().__init__("%s-bricks%d-%d" % (base.name, bricks, texture_bytes), "")
         for key in ("kind", "uses_step", "blend", "parallel_only"):
             setattr(self, key, getattr(base, key))
 
     def make_mapper(self):
         self.mapper = self.base.make_mapper()
         self.mapper.SetMaximumBrickSize(self.bricks)
+        if self.texture_bytes:
+            self.mapper.SetMaximumTextureBytes(self.texture_bytes)
         if self.mapper.IsA("vtkPreIntegrationVolumeMapper"):
             self.mapper.SetOpacityThreshold(1.0)
             self.mapper.SetTablePrecision(self.mapper.PRECISION_FLOAT32)
@@ -61,6 +67,7 @@ class Bricked(hm.Method):
     def statistics(self, mapper):
         stats = self.base.statistics(mapper)
         stats["bricks"] = mapper.GetNumberOfBricks()
+        stats["textures"] = mapper.GetNumberOfBrickTextures()
         if mapper.IsA("vtkPreIntegrationVolumeMapper"):
             stats["table"] = mapper.GetActiveTable()
         return stats
@@ -198,5 +205,22 @@ for name, blend in (("preint1", "composite"), ("preint2", "composite"), ("iso-an
             ok = ok and row["hit_miss_disagreements"] == 0 and row["extremum_max_error"] < 1e-3
         c.check(result.extra["bricks"] > 1 and ok,
                 "4096 x 32 x 32, %s: drawn in bricks within the small tests' limits" % name)
+
+# 3. A volume beyond one texture's bytes: the adaptive methods pack their bricks into several
+# textures (atlas pages), here with MaximumTextureBytes 24 MiB for a 64 MiB float volume and
+# its oracle, with the layout's own bricks and with forced bricks of 64 cells.
+for name in ("adaptive-ray", "adaptive-ray-tricubic", "adaptive-3d"):
+    scene = scene_for(volume, "composite", "marschner-lobb-spikes",
+                      parallel=hm.get_method(name).parallel_only)
+    one = renderer.render(Bricked(hm.get_method(name), 0), scene, 1.0)
+    for bricks in (0, 65):
+        paged = renderer.render(Bricked(hm.get_method(name), bricks, 24 << 20), scene, 1.0)
+        difference = numpy.abs(rgba(one.image) - rgba(paged.image)).max()
+        print("%-24s %3d bricks in %d textures of at most 24 MiB: largest difference %.2e"
+              % (name, paged.extra["bricks"], paged.extra["textures"], difference))
+        c.check(one.extra["textures"] == 1 and paged.extra["textures"] >= 3 and
+                difference <= 2e-4,
+                "%s: %d bricks in %d textures draw the image of one (%.2e)"
+                % (name, paged.extra["bricks"], paged.extra["textures"], difference))
 renderer.close()
 c.finish()
