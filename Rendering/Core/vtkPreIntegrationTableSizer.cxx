@@ -708,13 +708,19 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       goodOn(i, 1, 2);
   };
 
-  // Every candidate that fits: coarse tables can measure better than finer ones (their
-  // interpolation smooths over the segment model's own error) on one axis and not another,
-  // so no search that skips some of them finds the best reliably.
+  // Every candidate that fits, coarse to fine: coarse tables can measure better than finer
+  // ones (their interpolation smooths over the segment model's own error) on one axis and not
+  // another, so no search that skips some of them finds the best reliably. Finer centre axes
+  // converge to the segment model itself: once a level's best improves on the coarser levels'
+  // best by less than half the Tolerance, the finer ones (the costliest) cannot make a
+  // candidate good that is not, and are not measured.
   const int factors[4] = { 1, 2, 4, 8 };
   const bool kept = table->GetPrefilter();
+  this->NumberOfLevels = 0;
+  double coarserBest = -1.0;
   for (int level = 5; level <= 16; ++level)
   {
+    const size_t first = I.Candidates.size();
     if (!fits(makeCandidate(level, 8, order == 2 ? 8 : 1, kept)))
     {
       break; // every coarser spacing of this centre size is larger still
@@ -739,9 +745,28 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
       }
     }
+    ++this->NumberOfLevels;
     if (last)
     {
       break; // the centre axis is as large as it can be
+    }
+    double levelBest = -1.0;
+    for (size_t i = first; i < I.Candidates.size(); ++i)
+    {
+      const double e = I.Candidates[i].Error;
+      if (e >= 0.0 && (levelBest < 0.0 || e < levelBest))
+      {
+        levelBest = e;
+      }
+    }
+    if (this->StopAtConvergence && coarserBest >= 0.0 && levelBest >= 0.0 &&
+      levelBest >= (1.0 - 0.5 * this->Tolerance) * coarserBest)
+    {
+      break;
+    }
+    if (levelBest >= 0.0 && (coarserBest < 0.0 || levelBest < coarserBest))
+    {
+      coarserBest = levelBest;
     }
   }
 
@@ -798,6 +823,7 @@ void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumAxisSize: " << this->MaximumAxisSize << "\n";
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "ReferenceTolerance: " << this->ReferenceTolerance << "\n";
+  os << indent << "StopAtConvergence: " << this->StopAtConvergence << "\n";
   os << indent << "MeasurePrefilter: " << this->MeasurePrefilter << "\n";
   os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
   os << indent << "ExactError: " << this->ExactError << "\n";

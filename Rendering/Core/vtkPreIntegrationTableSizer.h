@@ -24,12 +24,15 @@
  *      the best candidate must stay below the allowance by two of their standard errors. The
  *      per-ray errors are heavy-tailed (rays grazing a sharp feature carry most of the
  *      error), and a table good only by the luck of a few rays should not be chosen.
- * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured: a
- * coarse axis can measure better than a finer one on one axis and not another, so a search
- * that skips candidates misses the best. The rays are quasi-random (a shifted Halton
- * sequence), whose error estimates vary less between seeds than independent random rays'. A coarse
- * table can measure better than finer ones (its interpolation can offset the segment model's own
- * error); the sizer then keeps it, as it measures.
+ * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured,
+ * centre size by centre size from the coarsest: a coarse axis can measure better than a finer
+ * one on one axis and not another, so a search that skips candidates misses the best. Finer
+ * centre sizes converge to the segment model itself, so with StopAtConvergence the search
+ * stops after a centre size whose best improves on the coarser sizes' best by less than half
+ * the Tolerance (the finer sizes, the costliest, then cannot change the choice). The rays are
+ * quasi-random (a shifted Halton sequence), whose error estimates vary less between seeds than
+ * independent random rays'. A coarse table can measure better than finer ones (its interpolation
+ * can offset the segment model's own error); the sizer then keeps it, as it measures.
  */
 #ifndef vtkPreIntegrationTableSizer_h
 #define vtkPreIntegrationTableSizer_h
@@ -136,6 +139,16 @@ public:
 
   ///@{
   /**
+   * Stop measuring finer centre sizes once they stop improving the best error (see the class
+   * documentation); off measures every candidate that fits. Initial value is true.
+   */
+  vtkSetMacro(StopAtConvergence, bool);
+  vtkGetMacro(StopAtConvergence, bool);
+  vtkBooleanMacro(StopAtConvergence, bool);
+  ///@}
+
+  ///@{
+  /**
    * Rays stop once their opacity exceeds this value, as the renderer's. Initial value is
    * 1 - 1/255.
    */
@@ -207,7 +220,8 @@ public:
    * What the last Choose() measured: the candidates in the order they were evaluated (their
    * TableSize, ChordSize and DeviationSize, prefilter, error and memory in bytes), the one chosen
    * (-1 if none), the error of the exact segment model (no table; -1 unless
-   * MeasureExactModel), the rays that met the volume, and the wall time in seconds.
+   * MeasureExactModel), the rays that met the volume, the centre sizes measured, and the wall
+   * time in seconds.
    */
   int GetNumberOfCandidates() const;
   void GetCandidateSizes(int candidate, int sizes[3]) const;
@@ -217,6 +231,7 @@ public:
   vtkGetMacro(ChosenCandidate, int);
   vtkGetMacro(ExactError, double);
   vtkGetMacro(NumberOfRaysInVolume, int);
+  vtkGetMacro(NumberOfLevels, int);
   vtkGetMacro(LastChooseTime, double);
   ///@}
 
@@ -233,6 +248,8 @@ protected:
   double OpacityThreshold = 1.0 - 1.0 / 255.0;
   bool MeasureExactModel = false;
   bool MeasurePrefilter = false;
+  bool StopAtConvergence = true;
+  int NumberOfLevels = 0;
   double ReferenceTolerance = 1.0 / 64.0;
   int ChosenCandidate = -1;
   double ExactError = 0.0;

@@ -208,7 +208,18 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
   {
     layout->SetDimensions(dims[0], dims[1], dims[2]);
     layout->SetBytesPerPoint(std::max(format.Bytes, this->MinimumBytesPerPoint));
-    if (!layout->Update())
+    bool ok = layout->Update();
+    // Atlas mode: a volume beyond one texture goes into bricks of at most a quarter of the
+    // texture's bytes, so that they pack into pages with little left empty (bricks of over
+    // half would take a page each).
+    if (ok && this->Atlas && layout->GetNumberOfBricks() > 1)
+    {
+      const double pageBytes = layout->GetMaximumBrickBytes();
+      layout->SetMaximumBrickBytes(pageBytes / 4.0);
+      ok = layout->Update();
+      layout->SetMaximumBrickBytes(pageBytes);
+    }
+    if (!ok)
     {
       why = "the volume cannot be split into bricks within the texture limits";
       return false;

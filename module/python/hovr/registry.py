@@ -32,6 +32,9 @@ FLOAT_MAX = 3.4028234663852886e38
 ORACLE_MODES = {"gradient": 0, "range": 1, "min": 2, "max": 3}
 # Settings of adaptive sampling a run may override (scene.adaptive holds the scene's).
 ADAPTIVE_SETTINGS = ("lmax", "epsilon", "oracle")
+# The GPU adaptive mappers' texture limits (MaximumTextureBytes in MiB, MaximumBrickSize):
+# smaller ones split the volume into more bricks and atlas textures.
+ATLAS_SETTINGS = ("texture_mib", "brick_points")
 
 
 class Method:
@@ -424,6 +427,10 @@ class AdaptiveMethod(Method):
     def configure(self, target, scene):
         """The settings, on any of the three adaptive classes (same setter names)."""
         values = self.settings(scene)
+        if values.get("texture_mib"):
+            target.SetMaximumTextureBytes(int(values["texture_mib"] * 2**20))
+        if values.get("brick_points"):
+            target.SetMaximumBrickSize(int(values["brick_points"]))
         target.SetMaximumLevel(values["lmax"])
         array = self.oracle_array(scene)
         if array is None:
@@ -488,6 +495,8 @@ class AdaptiveRayMethod(AdaptiveMethod):
     cubic B-spline from 8 trilinear fetches per sample (an expensive sampler, where skipping
     pays most)."""
 
+    settings_names = ADAPTIVE_SETTINGS + ATLAS_SETTINGS
+
     def __init__(self, name, description, tricubic=False):
         super().__init__(name, description)
         self.tricubic = tricubic
@@ -512,7 +521,9 @@ class AdaptiveRayMethod(AdaptiveMethod):
                 "table_build_ms": 1000.0 * mapper.GetLastTableBuildTime(),
                 "table_gpu_bytes": mapper.GetTableTextureMemorySize(),
                 "volume_gpu_bytes": mapper.GetBrickTextureMemorySize(),
-                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize()}
+                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize(),
+                "volume_bricks": mapper.GetNumberOfBricks(),
+                "volume_textures": mapper.GetNumberOfBrickTextures()}
 
 
 class AdaptivePyramidMethod(AdaptiveMethod):
@@ -522,6 +533,7 @@ class AdaptivePyramidMethod(AdaptiveMethod):
 
     uses_step = False
     parallel_only = True
+    settings_names = ADAPTIVE_SETTINGS + ATLAS_SETTINGS
 
     def make_mapper(self):
         return gl.vtkAdaptiveSamplingVolumeMapper()
@@ -546,7 +558,9 @@ class AdaptivePyramidMethod(AdaptiveMethod):
         return {"slice_spacing_voxels": mapper.GetSliceSpacing() / spacing,
                 "passes_per_frame": mapper.GetLastFramePasses(),
                 "volume_gpu_bytes": mapper.GetBrickTextureMemorySize(),
-                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize()}
+                "oracle_gpu_bytes": mapper.GetOracleTextureMemorySize(),
+                "volume_bricks": mapper.GetNumberOfBricks(),
+                "volume_textures": mapper.GetNumberOfBrickTextures()}
 
 
 METHODS = {m.name: m for m in (
