@@ -949,10 +949,11 @@ void vtkExtensibleGPUVolumeRayCastMapper::SetRayFrameUniforms(vtkShaderProgram* 
     rhs[a] = (this->RayPerspective ? f[3][a] : x[a]) - f[0][a];
   }
   double pixel[2] = { 0.0, 0.0 };
+  double along = this->RayPerspective ? 1.0 : 0.0; // l of the ray through the brick's centre
   const double det = vtkMath::Determinant3x3(m);
   if (std::abs(det) > 0.0)
   {
-    for (int c = 0; c < 2; ++c)
+    for (int c = 0; c < 3; ++c)
     {
       double mc[3][3];
       for (int a = 0; a < 3; ++a)
@@ -961,8 +962,27 @@ void vtkExtensibleGPUVolumeRayCastMapper::SetRayFrameUniforms(vtkShaderProgram* 
         mc[a][c] = rhs[a];
       }
       const double value = vtkMath::Determinant3x3(mc) / det;
+      if (c == 2)
+      {
+        along = std::isfinite(value) && (!this->RayPerspective || value > 0.0) ? value : along;
+        continue;
+      }
       pixel[c] = std::isfinite(value) ? std::round(std::max(-1e6, std::min(value, 1e6))) : 0.0;
     }
+  }
+  // The same pixel grid at the brick's depth (the plane of its centre, perpendicular to the
+  // frame's): the frame's plane may lie far from the brick, where float positions round
+  // coarsely. Perspective scales the plane about the eye by 1 / l, parallel moves it by l.
+  const double scale = this->RayPerspective ? 1.0 / along : 1.0;
+  float brickCentre[3], brickDx[3], brickDy[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double onPlane = f[0][a] + pixel[0] * f[1][a] + pixel[1] * f[2][a];
+    const double atBrick = this->RayPerspective ? f[3][a] + scale * (onPlane - f[3][a])
+                                                : onPlane - along * f[4][a];
+    brickCentre[a] = static_cast<float>(atBrick - points[2 * a]);
+    brickDx[a] = static_cast<float>(scale * f[1][a]);
+    brickDy[a] = static_cast<float>(scale * f[2][a]);
   }
   float centre[3], eye[3], local[3], localEye[3], dx[3], dy[3], forward[3];
   for (int a = 0; a < 3; ++a)
@@ -988,6 +1008,9 @@ void vtkExtensibleGPUVolumeRayCastMapper::SetRayFrameUniforms(vtkShaderProgram* 
   program->SetUniform2f("hovr_localPixelCentre", localPixelCentre);
   program->SetUniform3f("hovr_rayDx", dx);
   program->SetUniform3f("hovr_rayDy", dy);
+  program->SetUniform3f("hovr_brickCentre", brickCentre);
+  program->SetUniform3f("hovr_brickDx", brickDx);
+  program->SetUniform3f("hovr_brickDy", brickDy);
   program->SetUniform3f("hovr_rayForward", forward);
   program->SetUniformi("hovr_rayPerspective", this->RayPerspective);
 }

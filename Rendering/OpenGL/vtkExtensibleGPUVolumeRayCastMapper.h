@@ -329,7 +329,9 @@ protected:
    * (hovr_rayCentre, hovr_rayEye, hovr_rayPixelCentre, grid index of the volume); the brick
    * drawn's (hovr_localCentre, hovr_localEye, hovr_localPixelCentre: its texture's grid index,
    * centred on the pixel nearest to the brick's centre, so that float positions round at the
-   * brick's scale); hovr_rayDx, hovr_rayDy, hovr_rayForward and hovr_rayPerspective.
+   * brick's scale); hovr_rayDx, hovr_rayDy, hovr_rayForward and hovr_rayPerspective; and the
+   * pixel grid moved to the plane through the brick's centre (hovr_brickCentre, hovr_brickDx,
+   * hovr_brickDy, in the brick's grid index), where positions near the brick round finest.
    */
   void SetRayFrameUniforms(vtkShaderProgram* program);
 

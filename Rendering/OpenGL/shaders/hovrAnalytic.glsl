@@ -56,13 +56,14 @@ uniform sampler2D hovr_extremes; // round 2: each pixel's extremum over the bric
 // The rays as an affine frame in the brick's grid index, computed in double on the CPU
 // (vtkCameraRayModel::GetGridRayFrame, vtkExtensibleGPUVolumeRayCastMapper::
 // SetRayFrameUniforms) when hovr_rayFrameInUse is 1: the ray of the pixel at offset p from
-// hovr_localPixelCentre passes through hovr_localCentre + p.x hovr_rayDx + p.y hovr_rayDy,
-// near the brick, along that point minus hovr_localEye (perspective) or along hovr_rayForward
-// (parallel). Otherwise rays go through VTK's matrices.
+// hovr_localPixelCentre passes through hovr_brickCentre + p.x hovr_brickDx + p.y hovr_brickDy
+// (the pixel grid on the plane through the brick's centre), along that point minus
+// hovr_localEye (perspective) or along hovr_rayForward (parallel). Otherwise rays go through
+// VTK's matrices.
 uniform int hovr_rayFrameInUse;
-uniform vec3 hovr_localCentre;
-uniform vec3 hovr_rayDx;
-uniform vec3 hovr_rayDy;
+uniform vec3 hovr_brickCentre;
+uniform vec3 hovr_brickDx;
+uniform vec3 hovr_brickDy;
 uniform vec3 hovr_localEye;
 uniform vec3 hovr_rayForward;
 uniform vec2 hovr_localPixelCentre;
@@ -561,7 +562,7 @@ void hovr_analyticRay()
   if (hovr_rayFrameInUse == 1)
   {
     vec2 p = gl_FragCoord.xy - in_windowLowerLeftCorner - hovr_localPixelCentre;
-    base = hovr_localCentre + p.x * hovr_rayDx + p.y * hovr_rayDy;
+    base = hovr_brickCentre + p.x * hovr_brickDx + p.y * hovr_brickDy;
     dir = hovr_rayPerspective == 1 ? base - hovr_localEye : hovr_rayForward;
   }
   float len = length(dir);

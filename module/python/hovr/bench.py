@@ -90,7 +90,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "rmse_ratio_to_baseline", "ms_ratio_paired", "ms_ratio_paired_min",
               "ms_ratio_paired_max", "table_size", "table_sizing_ms", "table_build_ms", "table_gpu_bytes",
               "volume_gpu_bytes", "normal_gpu_bytes", "oracle_gpu_bytes", "block_gpu_bytes",
-              "corner_gpu_bytes",
+              "corner_gpu_bytes", "volume_bricks", "volume_textures",
               "hits_both", "hit_miss_disagreements", "missed_hits", "extra_hits",
               "depth_max_error_voxels", "depth_p99_error_voxels", "depth_mean_error_voxels",
               "depth_outliers", "grazing_pixels", "disagreements_not_grazing",
