@@ -711,13 +711,15 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   // Every candidate that fits, coarse to fine: coarse tables can measure better than finer
   // ones (their interpolation smooths over the segment model's own error) on one axis and not
   // another, so no search that skips some of them finds the best reliably. Finer centre axes
-  // converge to the segment model itself: once a level's best improves on the coarser levels'
-  // best by less than half the Tolerance, the finer ones (the costliest) cannot make a
-  // candidate good that is not, and are not measured.
+  // converge to the segment model itself: once two sizes in a row improve on the coarser
+  // sizes' best by less than half the Tolerance, the finer ones (the costliest) are not
+  // measured. One such size is not enough: a size too coarse for a narrow feature can stall
+  // before the next resolves it.
   const int factors[4] = { 1, 2, 4, 8 };
   const bool kept = table->GetPrefilter();
   this->NumberOfLevels = 0;
   double coarserBest = -1.0;
+  int stalled = 0; // centre sizes in a row that did not improve the best
   for (int level = 5; level <= 16; ++level)
   {
     const size_t first = I.Candidates.size();
@@ -759,10 +761,17 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         levelBest = e;
       }
     }
-    if (this->StopAtConvergence && coarserBest >= 0.0 && levelBest >= 0.0 &&
+    if (coarserBest >= 0.0 && levelBest >= 0.0 &&
       levelBest >= (1.0 - 0.5 * this->Tolerance) * coarserBest)
     {
-      break;
+      if (++stalled >= 2 && this->StopAtConvergence)
+      {
+        break;
+      }
+    }
+    else
+    {
+      stalled = 0;
     }
     if (levelBest >= 0.0 && (coarserBest < 0.0 || levelBest < coarserBest))
     {

@@ -28,8 +28,9 @@
  * centre size by centre size from the coarsest: a coarse axis can measure better than a finer
  * one on one axis and not another, so a search that skips candidates misses the best. Finer
  * centre sizes converge to the segment model itself, so with StopAtConvergence the search
- * stops after a centre size whose best improves on the coarser sizes' best by less than half
- * the Tolerance (the finer sizes, the costliest, then cannot change the choice). The rays are
+ * stops after two centre sizes in a row whose best improves on the coarser sizes' best by
+ * less than half the Tolerance (one is not enough: a size too coarse for a narrow feature can
+ * stall before the next resolves it). The rays are
  * quasi-random (a shifted Halton sequence), whose error estimates vary less between seeds than
  * independent random rays'. A coarse table can measure better than finer ones (its interpolation
  * can offset the segment model's own error); the sizer then keeps it, as it measures.

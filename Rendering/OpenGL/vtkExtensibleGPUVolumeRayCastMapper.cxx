@@ -978,8 +978,8 @@ void vtkExtensibleGPUVolumeRayCastMapper::SetRayFrameUniforms(vtkShaderProgram* 
   for (int a = 0; a < 3; ++a)
   {
     const double onPlane = f[0][a] + pixel[0] * f[1][a] + pixel[1] * f[2][a];
-    const double atBrick = this->RayPerspective ? f[3][a] + scale * (onPlane - f[3][a])
-                                                : onPlane - along * f[4][a];
+    const double atBrick =
+      this->RayPerspective ? f[3][a] + scale * (onPlane - f[3][a]) : onPlane - along * f[4][a];
     brickCentre[a] = static_cast<float>(atBrick - points[2 * a]);
     brickDx[a] = static_cast<float>(scale * f[1][a]);
     brickDy[a] = static_cast<float>(scale * f[2][a]);
