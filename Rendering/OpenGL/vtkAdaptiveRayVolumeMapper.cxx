@@ -208,7 +208,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
   // The oracle, or d = 1 after a warning when it cannot be used.
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   internal.UseOracle = false;
-  // About the precision, the oracle or the counter; given once while it lasts.
+  // About the oracle or the counter; given once while it lasts.
   std::string warning;
   // With l_max 0 every slice is sampled whatever the oracle says: it is not read.
   if (oracleWanted)

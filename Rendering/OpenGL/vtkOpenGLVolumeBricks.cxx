@@ -122,16 +122,27 @@ vtkTextureObject* vtkOpenGLVolumeBricks::GetTexture(int brick) const
 }
 
 //------------------------------------------------------------------------------
-void vtkOpenGLVolumeBricks::Activate(int brick)
+std::vector<vtkTextureObject*> vtkOpenGLVolumeBricks::GetTexturesOf(int brick) const
 {
+  std::vector<vtkTextureObject*> textures;
   if (this->Atlas)
   {
-    for (auto& texture : this->Textures)
+    for (const auto& texture : this->Textures)
     {
-      texture->Activate();
+      textures.push_back(texture.Get());
     }
   }
   else if (vtkTextureObject* texture = this->GetTexture(brick))
+  {
+    textures.push_back(texture);
+  }
+  return textures;
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLVolumeBricks::Activate(int brick)
+{
+  for (vtkTextureObject* texture : this->GetTexturesOf(brick))
   {
     texture->Activate();
   }
@@ -140,14 +151,7 @@ void vtkOpenGLVolumeBricks::Activate(int brick)
 //------------------------------------------------------------------------------
 void vtkOpenGLVolumeBricks::Deactivate(int brick)
 {
-  if (this->Atlas)
-  {
-    for (auto& texture : this->Textures)
-    {
-      texture->Deactivate();
-    }
-  }
-  else if (vtkTextureObject* texture = this->GetTexture(brick))
+  for (vtkTextureObject* texture : this->GetTexturesOf(brick))
   {
     texture->Deactivate();
   }
@@ -158,20 +162,16 @@ void vtkOpenGLVolumeBricks::SetSamplerUniform(vtkShaderProgram* program,
   const char* name,
   int brick) const
 {
-  if (!this->Atlas)
-  {
-    if (vtkTextureObject* texture = this->GetTexture(brick))
-    {
-      program->SetUniformi(name, texture->GetTextureUnit());
-    }
-    return;
-  }
   std::vector<int> units;
-  for (const auto& texture : this->Textures)
+  for (vtkTextureObject* texture : this->GetTexturesOf(brick))
   {
     units.push_back(texture->GetTextureUnit());
   }
-  if (!units.empty())
+  if (!this->Atlas && units.size() == 1)
+  {
+    program->SetUniformi(name, units[0]);
+  }
+  else if (!units.empty())
   {
     program->SetUniform1iv(name, static_cast<int>(units.size()), units.data());
   }

@@ -193,6 +193,8 @@ private:
     int bytesPerTexel,
     std::string& why);
   void operator=(const vtkOpenGLVolumeBricks&) = delete;
+  // The textures a draw of brick b reads: every page in atlas mode, else the brick's.
+  std::vector<vtkTextureObject*> GetTexturesOf(int brick) const;
 
   int Precision = WIDE;
   bool Filtered = true;
