@@ -345,34 +345,38 @@ public:
   {
     const vtkVolumeTransferFunctionSampler* Sampler = nullptr;
     // Largest scalar change per integration piece, as a fraction of the narrowest feature the
-    // path meets (features wider than DataRange count as that wide): the reference's rule.
+    // piece can meet (features wider than DataRange count as that wide): the reference's rule.
     double Tolerance = 1.0 / 64.0;
     double DataRange = 1.0;
 
-    // The path P(u) = f + b u + a u^2, u in [0, 1], over a world length.
+    // The path P(u) = f + b u + a u^2, u in [0, 1], over a world length, in midpoint pieces
+    // whose scalar sweep is at most Tolerance times the narrowest feature within their reach
+    // (vtkVolumeTransferFunctionSampler::GetLongestSweep, as the reference's pieces).
     void Integrate(double f, double b, double a, double length, double rgba[4]) const
     {
-      // |P'| <= max(|b|, |2a + b|) on [0, 1]; the path's range: its ends and extremum.
+      // |P'| <= max(|b|, |2a + b|) on [0, 1].
       const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
-      double lo = std::min(f, f + b + a), hi = std::max(f, f + b + a);
-      const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
-      if (vertex > 0.0 && vertex < 1.0)
-      {
-        lo = std::min(lo, f + vertex * (b + a * vertex));
-        hi = std::max(hi, f + vertex * (b + a * vertex));
-      }
-      const double feature = std::min(this->Sampler->GetSmallestFeature(lo, hi), this->DataRange);
-      const double step = feature > 0.0 && feature < 1e300 ? this->Tolerance * feature : 1e300;
-      const int n = static_cast<int>(std::min(std::max(std::ceil(sweep / step), 1.0), 1e5));
-      const double h = length / n;
+      const double shortest = 1e-5; // at most 1e5 pieces
       double transmittance = 1.0;
       std::fill(rgba, rgba + 4, 0.0);
-      for (int k = 0; k < n; ++k)
+      for (double u = 0.0; u < 1.0;)
       {
-        const double u = (k + 0.5) / n;
+        double du = 1.0 - u;
+        if (sweep > 0.0)
+        {
+          const double reach = this->Sampler->GetLongestSweep(
+            f + u * (b + u * a), this->Tolerance, this->DataRange, sweep * du);
+          du = std::min(du, std::max(reach / sweep, shortest));
+        }
+        if (1.0 - u - du < shortest)
+        {
+          du = 1.0 - u;
+        }
+        const double middle = u + 0.5 * du;
+        u += du;
         double sample[4];
-        this->Sampler->Evaluate(f + u * (b + u * a), sample);
-        const double alpha = -std::expm1(-sample[3] * h);
+        this->Sampler->Evaluate(f + middle * (b + middle * a), sample);
+        const double alpha = -std::expm1(-sample[3] * length * du);
         const double weight = transmittance * alpha;
         for (int c = 0; c < 3; ++c)
         {

@@ -49,31 +49,57 @@ struct Ray
   double O[3], V[3], T0, T1;
 };
 
-// Records the largest chord and deviation the rays meet; composites nothing, so every ray
-// runs to its exit.
+// One piece of a prepared ray as the shader composites it: its table axes (chord centre,
+// chord, deviation of the middle sample; 0 for a segment) and its length as a fraction of a
+// whole segment or slab. Pieces with a NaN sample add nothing and are not kept.
+struct Piece
+{
+  float Axes[3];
+  float Fraction;
+};
+
+// Records the pieces of one ray; composites nothing, so the ray runs to its exit.
 struct RecordPieces
 {
-  vtkSMPThreadLocal<double>* Chord;
-  vtkSMPThreadLocal<double>* Deviation;
-  void Segment(double sf, double sb, double, double, double rgba[4]) const
+  std::vector<Piece>* Out;
+  void Add(double c, double chord, double deviation, double fraction) const
   {
-    if (!std::isnan(sf + sb))
-    {
-      double& chord = this->Chord->Local();
-      chord = std::max(chord, std::abs(sb - sf));
-    }
+    this->Out->push_back(
+      { { static_cast<float>(c), static_cast<float>(chord), static_cast<float>(deviation) },
+        static_cast<float>(fraction) });
+  }
+  void Segment(double sf, double sb, double fraction, double, double rgba[4]) const
+  {
+    this->Add(0.5 * (sf + sb), sb - sf, 0.0, fraction);
     std::fill(rgba, rgba + 4, 0.0);
   }
-  void Slab(double sf, double sm, double sb, double, double, double rgba[4]) const
+  void Slab(double sf, double sm, double sb, double fraction, double, double rgba[4]) const
   {
-    if (!std::isnan(sf + sm + sb))
-    {
-      double& chord = this->Chord->Local();
-      double& deviation = this->Deviation->Local();
-      chord = std::max(chord, std::abs(sb - sf));
-      deviation = std::max(deviation, std::abs(sm - 0.5 * (sf + sb)));
-    }
+    double v[3];
+    March::TableView::SlabAxes(sf, sm, sb, v);
+    this->Add(v[0], v[1], v[2], fraction);
     std::fill(rgba, rgba + 4, 0.0);
+  }
+};
+
+// The exact segment model of a kept piece: its model scalar path (Eq. 2 for a slab) integrated
+// through the transfer function, no table.
+struct ExactLookup
+{
+  March::ExactPieces Exact;
+  int Order = 1;
+  double Step = 1.0;
+  void Read(const double v[3], double fraction, double rgba[4]) const
+  {
+    const double sf = v[0] - 0.5 * v[1], sb = v[0] + 0.5 * v[1];
+    if (this->Order == 1)
+    {
+      this->Exact.Segment(sf, sb, fraction, this->Step, rgba);
+    }
+    else
+    {
+      this->Exact.Slab(sf, v[0] + v[2], sb, fraction, 2.0 * this->Step, rgba);
+    }
   }
 };
 
@@ -149,18 +175,6 @@ struct LazyPieces
     }
     March::Scale(rgba, fraction);
   }
-  void Segment(double sf, double sb, double fraction, double, double rgba[4]) const
-  {
-    double v[3];
-    this->View.SegmentAxes(sf, sb, v);
-    this->Read(v, fraction, rgba);
-  }
-  void Slab(double sf, double sm, double sb, double fraction, double, double rgba[4]) const
-  {
-    double v[3];
-    March::TableView::SlabAxes(sf, sm, sb, v);
-    this->Read(v, fraction, rgba);
-  }
 };
 }
 
@@ -176,48 +190,72 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   vtkSecondOrderPreIntegrationTable* Table = nullptr; // the prepared one
   vtkNew<vtkSecondOrderPreIntegrationTable> Scratch;  // candidates' iteration tables
   std::vector<double> LastPerRay;                     // of the last Measure()
-  std::vector<double> ReferenceKey; // what the rays and their reference were computed from
+  std::vector<double> RayKey;                         // what the rays were computed from
+  std::vector<double> ReferenceKey;                   // what their reference was computed from
+  // The pieces of every ray (ray r's from PieceStart[r] to PieceStart[r + 1]): they depend on
+  // the volume, the rays, the order and the step, not on the transfer functions, and are kept
+  // while those stay the same.
+  std::vector<Piece> Pieces;
+  std::vector<size_t> PieceStart;
+  std::vector<double> PieceKey;
+  double MeasuredChordRange = 0.0;
+  double MeasuredDeviationRange = 0.0;
+  std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
+  std::atomic<bool> AbortRequested{ false };
+  bool Aborted = false; // the last Prepare() or Choose() stopped on AbortRequested
 
-  // The rays composited with pieces: each ray's squared error against the reference (mean
-  // over the four channels) into perRay, and the RMSE over all rays.
-  template <class Pieces>
-  double Measure(const Pieces& pieces, std::vector<double>& perRay) const
+  // Each ray's squared error against the reference (mean over the four channels) into
+  // perRay, and the RMSE over all rays.
+  double Score(const std::vector<double>& rgba, std::vector<double>& perRay) const
   {
     perRay.assign(this->Rays.size(), 0.0);
+    double total = 0.0;
+    for (size_t r = 0; r < this->Rays.size(); ++r)
+    {
+      double sum = 0.0;
+      for (int c = 0; c < 4; ++c)
+      {
+        const double d = rgba[4 * r + c] - this->Reference[4 * r + c];
+        sum += d * d;
+      }
+      perRay[r] = 0.25 * sum;
+      total += perRay[r];
+    }
+    return std::sqrt(total / std::max<size_t>(perRay.size(), 1));
+  }
+
+  // The kept pieces of every ray composited with a table lookup (Read(axes, fraction, rgba)),
+  // front to back as March::Cast does, scored.
+  template <class Lookup>
+  double MeasurePieces(const Lookup& lookup, std::vector<double>& perRay) const
+  {
+    std::vector<double> rgba(4 * this->Rays.size(), 0.0);
     vtkSMPTools::For(0,
       static_cast<vtkIdType>(this->Rays.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
-        const Pieces chunkPieces(pieces); // with scratch memory of its own
+        if (this->AbortRequested.load(std::memory_order_relaxed))
+        {
+          return;
+        }
+        const Lookup chunkLookup(lookup); // with scratch memory of its own
         for (vtkIdType r = begin; r < end; ++r)
         {
-          const Ray& ray = this->Rays[r];
-          double rgba[4];
-          March::Cast(this->Grid,
-            chunkPieces,
-            this->Order,
-            this->Step,
-            this->Threshold,
-            ray.O,
-            ray.V,
-            ray.T0,
-            ray.T1,
-            rgba);
-          double sum = 0.0;
-          for (int c = 0; c < 4; ++c)
+          double* sum = &rgba[4 * r];
+          for (size_t p = this->PieceStart[r]; p < this->PieceStart[r + 1]; ++p)
           {
-            const double d = rgba[c] - this->Reference[4 * r + c];
-            sum += d * d;
+            const Piece& piece = this->Pieces[p];
+            const double axes[3] = { piece.Axes[0], piece.Axes[1], piece.Axes[2] };
+            double value[4];
+            chunkLookup.Read(axes, piece.Fraction, value);
+            if (!March::Composite(value, this->Threshold, sum))
+            {
+              break;
+            }
           }
-          perRay[r] = 0.25 * sum;
         }
       });
-    double total = 0.0;
-    for (double e : perRay)
-    {
-      total += e;
-    }
-    return std::sqrt(total / std::max<size_t>(perRay.size(), 1));
+    return this->AbortRequested.load() ? -1.0 : this->Score(rgba, perRay);
   }
 };
 
@@ -229,6 +267,61 @@ vtkPreIntegrationTableSizer::vtkPreIntegrationTableSizer()
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationTableSizer::~vtkPreIntegrationTableSizer() = default;
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::CopySettings(vtkPreIntegrationTableSizer* other)
+{
+  if (!other || other == this)
+  {
+    return;
+  }
+  this->SetNumberOfRays(other->NumberOfRays);
+  this->SetSeed(other->Seed);
+  this->SetTolerance(other->Tolerance);
+  this->SetMaximumMemory(other->MaximumMemory);
+  this->SetBytesPerEntry(other->BytesPerEntry);
+  this->SetMaximumAxisSize(other->MaximumAxisSize);
+  this->SetReferenceTolerance(other->ReferenceTolerance);
+  this->SetMeasureExactModel(other->MeasureExactModel);
+  this->SetMeasurePrefilter(other->MeasurePrefilter);
+  this->SetStopAtConvergence(other->StopAtConvergence);
+  this->SetOpacityThreshold(other->OpacityThreshold);
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::CopyStatistics(vtkPreIntegrationTableSizer* other)
+{
+  if (!other || other == this)
+  {
+    return;
+  }
+  this->Internals->Candidates = other->Internals->Candidates;
+  this->ChosenCandidate = other->ChosenCandidate;
+  this->ExactError = other->ExactError;
+  this->NumberOfRaysInVolume = other->NumberOfRaysInVolume;
+  this->NumberOfLevels = other->NumberOfLevels;
+  this->LastChooseTime = other->LastChooseTime;
+  this->MeasuredChordRange = other->MeasuredChordRange;
+  this->MeasuredDeviationRange = other->MeasuredDeviationRange;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::Abort()
+{
+  this->Internals->AbortRequested = true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::ClearAbort()
+{
+  this->Internals->AbortRequested = false;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::GetAborted() const
+{
+  return this->Internals->Aborted;
+}
 
 //------------------------------------------------------------------------------
 int vtkPreIntegrationTableSizer::GetNumberOfCandidates() const
@@ -277,7 +370,12 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   vtkInternals& I = *this->Internals;
   I.Candidates.clear();
   I.Table = nullptr;
+  I.Aborted = false;
   this->ChosenCandidate = -1;
+  if (I.AbortRequested)
+  {
+    return this->Stop();
+  }
   if (!table || (order != 1 && order != 2) || !(sampleDistance > 0.0) ||
     !std::isfinite(sampleDistance))
   {
@@ -305,21 +403,32 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     return false;
   }
 
-  // The rays and their ground truth depend on neither the order nor the step: they are kept
-  // while the volume, the transfer functions and the ray settings stay the same.
-  const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(volume)),
+  // The rays depend on the volume and the ray settings; their pieces also on the order and
+  // the step; their ground truth on the transfer functions and the range instead. Each is
+  // kept while what it depends on stays the same, so that an edit of the transfer functions
+  // costs only the reference and the candidates, a change of step or order only the pieces
+  // and the candidates.
+  const std::vector<double> rayKey = { static_cast<double>(reinterpret_cast<uintptr_t>(volume)),
     static_cast<double>(volume->GetMTime()),
     static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
     static_cast<double>(scalars->GetMTime()),
-    static_cast<double>(reinterpret_cast<uintptr_t>(sampler)),
-    static_cast<double>(sampler->GetMTime()),
-    range[0],
-    range[1],
     static_cast<double>(this->Seed),
-    static_cast<double>(this->NumberOfRays),
-    this->ReferenceTolerance };
-  const bool reuse = key == I.ReferenceKey;
+    static_cast<double>(this->NumberOfRays) };
+  std::vector<double> key = rayKey;
+  key.insert(key.end(),
+    { static_cast<double>(reinterpret_cast<uintptr_t>(sampler)),
+      static_cast<double>(sampler->GetMTime()),
+      range[0],
+      range[1],
+      this->ReferenceTolerance });
+  std::vector<double> pieceKey = rayKey;
+  pieceKey.insert(pieceKey.end(), { static_cast<double>(order), sampleDistance });
+  const bool reuseRays = !I.RayKey.empty() && rayKey == I.RayKey;
+  const bool reuse = reuseRays && key == I.ReferenceKey;
+  const bool reusePieces = reuseRays && pieceKey == I.PieceKey;
   I.ReferenceKey.clear();
+  I.PieceKey.clear();
+  I.RayKey.clear();
 
   // The volume read in place (a double copy only for arrays that cannot be), and the world
   // -> 0-based grid index map.
@@ -368,11 +477,11 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     }
     return value;
   };
-  if (!reuse)
+  if (!reuseRays)
   {
     I.Rays.clear();
   }
-  for (int attempt = 0; !reuse && attempt < 8 * this->NumberOfRays &&
+  for (int attempt = 0; !reuseRays && attempt < 8 * this->NumberOfRays &&
        static_cast<int>(I.Rays.size()) < this->NumberOfRays;
        ++attempt)
   {
@@ -407,6 +516,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     }
   }
   this->NumberOfRaysInVolume = static_cast<int>(I.Rays.size());
+  I.RayKey = rayKey;
 
   // Ground truth along them, at the reference integrator's tolerance: a coarser one puts a
   // floor under the errors measured, below which no candidate can be told from another.
@@ -429,20 +539,26 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       static_cast<vtkIdType>(I.Rays.size()),
       origins.data(),
       directions.data(),
-      I.Reference.data());
+      I.Reference.data(),
+      &I.AbortRequested);
+  }
+  if (I.AbortRequested)
+  {
+    return this->Stop();
   }
   I.ReferenceKey = key;
 
-  // The chords and deviations the rays meet.
-  vtkSMPThreadLocal<double> chords(0.0), deviations(0.0);
+  // The pieces of the rays, and the largest chord and deviation they meet.
+  if (!reusePieces)
   {
-    RecordPieces record{ &chords, &deviations };
+    std::vector<std::vector<Piece>> perRay(I.Rays.size());
     vtkSMPTools::For(0,
       static_cast<vtkIdType>(I.Rays.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
         for (vtkIdType r = begin; r < end; ++r)
         {
+          RecordPieces record{ &perRay[r] };
           double rgba[4];
           March::Cast(I.Grid,
             record,
@@ -456,31 +572,71 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
             rgba);
         }
       });
+    if (I.AbortRequested)
+    {
+      return this->Stop();
+    }
+    size_t total = 0;
+    for (const auto& pieces : perRay)
+    {
+      total += pieces.size();
+    }
+    I.Pieces.clear();
+    I.Pieces.shrink_to_fit();
+    I.Pieces.reserve(total);
+    I.PieceStart.assign(1, 0);
+    for (auto& pieces : perRay)
+    {
+      I.Pieces.insert(I.Pieces.end(), pieces.begin(), pieces.end());
+      I.PieceStart.push_back(I.Pieces.size());
+      std::vector<Piece>().swap(pieces);
+    }
+    I.MeasuredChordRange = 0.0;
+    I.MeasuredDeviationRange = 0.0;
+    for (const Piece& piece : I.Pieces)
+    {
+      I.MeasuredChordRange = std::max(I.MeasuredChordRange, std::abs(double(piece.Axes[1])));
+      I.MeasuredDeviationRange =
+        std::max(I.MeasuredDeviationRange, std::abs(double(piece.Axes[2])));
+    }
   }
-  this->MeasuredChordRange = 0.0;
-  this->MeasuredDeviationRange = 0.0;
-  for (double c : chords)
-  {
-    this->MeasuredChordRange = std::max(this->MeasuredChordRange, c);
-  }
-  for (double d : deviations)
-  {
-    this->MeasuredDeviationRange = std::max(this->MeasuredDeviationRange, d);
-  }
+  I.PieceKey = pieceKey;
+  this->MeasuredChordRange = I.MeasuredChordRange;
+  this->MeasuredDeviationRange = I.MeasuredDeviationRange;
 
-  // The exact segment model, on request (it costs as much as the reference).
+  // The exact segment model: the error finer tables converge to, where the search may stop
+  // (it costs about as much as the reference).
   this->ExactError = -1.0;
-  if (this->MeasureExactModel)
+  I.ExactPerRay.clear();
+  if (this->MeasureExactModel || this->StopAtConvergence)
   {
-    March::ExactPieces exact;
-    exact.Sampler = sampler;
-    exact.Tolerance = tolerance;
-    exact.DataRange = width;
-    std::vector<double> perRay;
-    this->ExactError = I.Measure(exact, perRay);
+    ExactLookup exact;
+    exact.Exact.Sampler = sampler;
+    exact.Exact.Tolerance = tolerance;
+    exact.Exact.DataRange = width;
+    exact.Order = order;
+    exact.Step = sampleDistance;
+    this->ExactError = I.MeasurePieces(exact, I.ExactPerRay);
+    if (I.AbortRequested)
+    {
+      return this->Stop();
+    }
   }
   I.Table = table;
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::Stop()
+{
+  vtkInternals& I = *this->Internals;
+  I.Aborted = true;
+  I.Table = nullptr;
+  I.Candidates.clear();
+  I.ExactPerRay.clear();
+  this->ChosenCandidate = -1;
+  this->ExactError = -1.0;
+  return false;
 }
 
 //------------------------------------------------------------------------------
@@ -564,7 +720,7 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
   lazy.Runs = scratch->GetIterationEmptyRuns()->GetPointer(0);
   lazy.Entries = values.get();
   lazy.States = states.get();
-  return I.Measure(lazy, I.LastPerRay);
+  return I.MeasurePieces(lazy, I.LastPerRay);
 }
 
 //------------------------------------------------------------------------------
@@ -708,6 +864,32 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       goodOn(i, 1, 2);
   };
 
+  // Whether candidate i is, with confidence, within half the Tolerance of the exact segment
+  // model (or better): finer tables converge to that model, so the search can stop there.
+  auto nearExact = [&](int i)
+  {
+    const std::vector<double>& exact = I.ExactPerRay;
+    if (i < 0 || exact.empty() || exact.size() != I.Candidates[i].PerRay.size())
+    {
+      return false;
+    }
+    const std::vector<double>& ci = I.Candidates[i].PerRay;
+    double mean = 0.0, square = 0.0, exactSquare = 0.0;
+    const size_t n = std::max<size_t>(ci.size(), 1);
+    for (size_t r = 0; r < ci.size(); ++r)
+    {
+      const double d = ci[r] - exact[r];
+      mean += d;
+      square += d * d;
+      exactSquare += exact[r];
+    }
+    mean /= n;
+    exactSquare /= n;
+    const double deviation = std::sqrt(std::max(square / n - mean * mean, 0.0) / n);
+    const double allowed = (1.0 + 0.5 * this->Tolerance) * (1.0 + 0.5 * this->Tolerance);
+    return exactSquare + mean + 2.0 * deviation <= allowed * exactSquare;
+  };
+
   // Every candidate that fits, coarse to fine: coarse tables can measure better than finer
   // ones (their interpolation smooths over the segment model's own error) on one axis and not
   // another, so no search that skips some of them finds the best reliably. Finer centre axes
@@ -723,6 +905,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   for (int level = 5; level <= 16; ++level)
   {
     const size_t first = I.Candidates.size();
+    if (I.AbortRequested)
+    {
+      return this->Stop();
+    }
     if (!fits(makeCandidate(level, 8, order == 2 ? 8 : 1, kept)))
     {
       break; // every coarser spacing of this centre size is larger still
@@ -753,13 +939,19 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       break; // the centre axis is as large as it can be
     }
     double levelBest = -1.0;
+    int levelBestIndex = -1;
     for (size_t i = first; i < I.Candidates.size(); ++i)
     {
       const double e = I.Candidates[i].Error;
       if (e >= 0.0 && (levelBest < 0.0 || e < levelBest))
       {
         levelBest = e;
+        levelBestIndex = static_cast<int>(i);
       }
+    }
+    if (this->StopAtConvergence && nearExact(levelBestIndex))
+    {
+      break;
     }
     if (coarserBest >= 0.0 && levelBest >= 0.0 &&
       levelBest >= (1.0 - 0.5 * this->Tolerance) * coarserBest)
@@ -777,6 +969,11 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     {
       coarserBest = levelBest;
     }
+  }
+
+  if (I.AbortRequested)
+  {
+    return this->Stop();
   }
 
   // The least memory among the good candidates; of equal memory (with and without the

@@ -11,13 +11,16 @@
  *   1. it casts NumberOfRays random rays through the volume (uniform directions, uniform over
  *      each direction's projected disc, from a fixed Seed: the choice does not depend on the
  *      camera, and repeats) and integrates them with vtkVolumeReferenceIntegrator;
- *   2. it marches them as the GLSL does (vtkPreIntegrationRayMarch) and records the largest
- *      chord |back - front| and deviation |middle - centre| of their segments or slabs, which
- *      (times 1.25) become the table's ChordRange and DeviationRange;
- *   3. it composites the same rays with candidate tables (vtkSecondOrderPreIntegrationTable:
+ *   2. it marches them as the GLSL does (vtkPreIntegrationRayMarch) and keeps the pieces
+ *      (segments or slabs: their table axes and length) of every ray, which depend on the
+ *      volume, the order and the step but not on the transfer functions; the largest chord
+ *      |back - front| and deviation |middle - centre| they meet (times 1.25) become the
+ *      table's ChordRange and DeviationRange;
+ *   3. it composites the kept pieces with candidate tables (vtkSecondOrderPreIntegrationTable:
  *      TableSize entries on the centre axis, 2^k + 1; chord and deviation spacings 1, 2, 4 or
  *      8 times the centre spacing), computing only the entries the rays read
- *      (vtkSecondOrderPreIntegrationTableKernel, the builders' own integration);
+ *      (vtkSecondOrderPreIntegrationTableKernel, the builders' own integration), and with the
+ *      exact segment model (each piece integrated along its model path, no table);
  *   4. it keeps the candidate with the least memory whose error against the reference (RMSE
  *      of premultiplied RGBA over the rays) is, with confidence, within Tolerance of the least
  *      error measured, on all the rays and on each half of them: the per-ray differences to
@@ -27,10 +30,11 @@
  * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured,
  * centre size by centre size from the coarsest: a coarse axis can measure better than a finer
  * one on one axis and not another, so a search that skips candidates misses the best. Finer
- * centre sizes converge to the segment model itself, so with StopAtConvergence the search
- * stops after two centre sizes in a row whose best improves on the coarser sizes' best by
- * less than half the Tolerance (one is not enough: a size too coarse for a narrow feature can
- * stall before the next resolves it). The rays are
+ * centre sizes converge to the exact segment model, so with StopAtConvergence the search stops
+ * after the first centre size whose best is, with confidence, within half the Tolerance of that
+ * model's error (or better), or after two centre sizes in a row whose best improves on the
+ * coarser sizes' best by less than half the Tolerance (one is not enough: a size too coarse
+ * for a narrow feature can stall before the next resolves it). The rays are
  * quasi-random (a shifted Halton sequence), whose error estimates vary less between seeds than
  * independent random rays'. A coarse table can measure better than finer ones (its interpolation
  * can offset the segment model's own error); the sizer then keeps it, as it measures.
@@ -116,8 +120,9 @@ public:
   ///@{
   /**
    * Also integrate the exact segment model (each segment's or slab's model path, no table)
-   * along the rays in Prepare(), for GetExactError(); it costs about as much as the reference.
-   * Initial value is false.
+   * along the rays when StopAtConvergence is off, for GetExactError() (with StopAtConvergence
+   * it is always integrated: the search stops against it); it costs about as much as the
+   * reference. Initial value is false.
    */
   vtkSetMacro(MeasureExactModel, bool);
   vtkGetMacro(MeasureExactModel, bool);
@@ -173,13 +178,16 @@ public:
     double sampleDistance);
 
   /**
-   * The measuring part of Choose(): casts the random rays, integrates the reference and the
-   * exact segment model along them, and measures the largest chord and deviation
-   * (GetMeasuredChordRange(), GetMeasuredDeviationRange()). The rays and their reference are
-   * kept from the last Prepare() while the volume, its scalars, the table's transfer functions
-   * and scalar range, Seed, NumberOfRays and ReferenceTolerance stay the same (by pointer and
-   * modification time), so a change of order or sample distance costs only the candidates. The
-   * table is not changed; it must stay alive while Measure() is used.
+   * The measuring part of Choose(): casts the random rays, keeps their pieces, integrates
+   * the reference and the exact segment model along them, and measures the largest chord and
+   * deviation (GetMeasuredChordRange(), GetMeasuredDeviationRange()). What depends on less is
+   * kept from the last Prepare() (compared by pointer and modification time): the rays while
+   * the volume, its scalars, Seed and NumberOfRays stay the same; their pieces while the order
+   * and the sample distance also do; their reference while the table's transfer functions and
+   * scalar range and ReferenceTolerance also do. So an edit of the transfer functions costs
+   * the reference, the exact model and the candidates, and a change of order or sample
+   * distance the pieces, the exact model and the candidates. The table is not changed; it must
+   * stay alive while Measure() is used.
    */
   bool Prepare(vtkImageData* volume,
     vtkDataArray* scalars,
@@ -207,6 +215,33 @@ public:
    */
   void GetLastMeasurePerRay(vtkDoubleArray* errors);
 
+  /**
+   * Take the settings of other (NumberOfRays, Seed, Tolerance, MaximumMemory, BytesPerEntry,
+   * MaximumAxisSize, ReferenceTolerance, MeasureExactModel, MeasurePrefilter,
+   * StopAtConvergence, OpacityThreshold).
+   */
+  void CopySettings(vtkPreIntegrationTableSizer* other);
+
+  /**
+   * Take what other's last Choose() measured (candidates, chosen candidate, exact error, rays
+   * in the volume, levels, time, measured ranges), for statistics; not its rays or reference.
+   */
+  void CopyStatistics(vtkPreIntegrationTableSizer* other);
+
+  ///@{
+  /**
+   * Stop a Choose() or Prepare() that runs in another thread at its next check (between
+   * candidates, between chunks of rays, inside the reference's rays): it returns false without
+   * an error message and leaves the table unchanged; the rays, pieces and reference it had
+   * completed are kept for the next call. The request stays until ClearAbort(), so that an
+   * Abort() just before a call is not lost: whoever starts a measurement clears it first.
+   * GetAborted() tells whether the last Prepare() or Choose() stopped so. Thread-safe.
+   */
+  void Abort();
+  void ClearAbort();
+  bool GetAborted() const;
+  ///@}
+
   ///@{
   /**
    * The largest chord |back - front| and deviation |middle - centre| that the prepared rays
@@ -220,9 +255,9 @@ public:
   /**
    * What the last Choose() measured: the candidates in the order they were evaluated (their
    * TableSize, ChordSize and DeviationSize, prefilter, error and memory in bytes), the one chosen
-   * (-1 if none), the error of the exact segment model (no table; -1 unless
-   * MeasureExactModel), the rays that met the volume, the centre sizes measured, and the wall
-   * time in seconds.
+   * (-1 if none), the error of the exact segment model (no table; -1 when neither
+   * MeasureExactModel nor StopAtConvergence is on), the rays that met the volume, the centre sizes
+   * measured, and the wall time in seconds.
    */
   int GetNumberOfCandidates() const;
   void GetCandidateSizes(int candidate, int sizes[3]) const;
@@ -260,6 +295,8 @@ protected:
   double MeasuredDeviationRange = 0.0;
 
 private:
+  // Ends a Prepare() or Choose() on Abort(): forgets the candidates, returns false.
+  bool Stop();
   // Measure() with an explicit prefilter.
   double MeasureCandidate(int tableSize,
     int chordSize,

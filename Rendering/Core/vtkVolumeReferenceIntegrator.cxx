@@ -26,8 +26,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <new>
 #include <numeric>
 #include <random>
@@ -491,15 +491,13 @@ public:
       CellEntry(o, v, t0, cell, entry);
       vtkTrilinearRayProfile profile;
       profile.Set(corner, entry, v);
-      const double variation = length * profile.GetMaximumSlope(length);
-      // Pieces as fine as the narrowest transfer-function feature the cell's values meet (a
-      // feature elsewhere in the range needs no pieces here); one piece where both functions
-      // are constant over them.
-      const double feature =
-        std::min(this->Sampler->GetSmallestFeature(*range.first, *range.second), this->DataRange);
-      const double step =
-        feature > 0.0 && feature < VTK_DOUBLE_MAX ? this->Tolerance * feature : VTK_DOUBLE_MAX;
-      double n = std::min(std::ceil(variation / step), 1e6);
+      // Pieces as fine as the narrowest transfer-function feature their own values can meet:
+      // a piece starting at scalar s and changing by at most slope h per length h meets only
+      // the features within that reach of s, so a narrow feature elsewhere in the cell's range
+      // needs fine pieces only where the profile comes near it. One piece where both functions
+      // are constant over the reach.
+      const double slope = profile.GetMaximumSlope(length);
+      double longest = length; // the longest piece
       double gradients[8][3], u0[3];
       CellEntry(o, v, t0, cell, u0);
       const bool shade = this->Shading && view;
@@ -510,18 +508,33 @@ public:
         const double spread = this->CornerGradients(cell, gradients);
         const double share =
           std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
-        n = std::max(n, std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6));
+        longest =
+          length / std::max(std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6), 1.0);
       }
-      const int count = std::max(1, static_cast<int>(n));
-      const double h = length / count;
-      for (int k = 0; k < count; ++k)
+      const double shortest = length * 1e-6; // at most a million pieces per cell
+      int count = 0;
+      for (double t = 0.0; t < length; ++count)
       {
+        double h = std::min(longest, length - t);
+        if (slope > 0.0)
+        {
+          const double sweep = this->Sampler->GetLongestSweep(
+            profile.Evaluate(t), this->Tolerance, this->DataRange, slope * h);
+          h = std::min(h, std::max(sweep / slope, shortest));
+        }
+        if (length - t - h < shortest)
+        {
+          h = length - t; // no sliver left over
+        }
+        const double middle = t + 0.5 * h;
+        t += h;
         double sample[4];
-        this->Sampler->Evaluate(profile.Evaluate((k + 0.5) * h), sample);
+        this->Sampler->Evaluate(profile.Evaluate(middle), sample);
         if (shade && sample[3] > 0.0)
         {
-          const double t = (k + 0.5) * h;
-          const double u[3] = { u0[0] + t * v[0], u0[1] + t * v[1], u0[2] + t * v[2] };
+          const double u[3] = {
+            u0[0] + middle * v[0], u0[1] + middle * v[1], u0[2] + middle * v[2]
+          };
           double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
           InterpolateNormal(gradients, u, normal);
           this->Shading->ShadePoint(normal, view, colour, sample);
@@ -757,7 +770,8 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
   vtkIdType count,
   const double* origins,
   const double* directions,
-  double* rgba)
+  double* rgba,
+  const std::atomic<bool>* abort)
 {
   VolumeGrid grid;
   grid.Values = values;
@@ -769,6 +783,10 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
     {
       for (vtkIdType r = begin; r < end; ++r)
       {
+        if (abort && abort->load(std::memory_order_relaxed))
+        {
+          return;
+        }
         vtkGridRayTraversal walk;
         std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
         if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))

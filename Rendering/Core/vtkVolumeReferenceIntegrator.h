@@ -9,9 +9,10 @@
  * vtkVolumeTransferFunctionSampler. This is the yardstick every hovr method is measured by.
  *
  * How: the ray is walked cell by cell (vtkGridRayTraversal). Inside a cell the scalar is an
- * exact cubic in t (vtkTrilinearRayProfile); the cell segment is cut into n pieces such that
+ * exact cubic in t (vtkTrilinearRayProfile); the cell segment is cut into pieces such that
  * the scalar changes by at most ScalarTolerance * (narrowest transfer-function feature among
- * those the cell's corner values meet) per piece, n being taken from a bound on |ds/dt|. Each piece
+ * those the piece's values can meet) per piece, from a bound on |ds/dt| over the cell: a
+ * narrow feature makes pieces fine only where the profile comes near it. Each piece
  * is integrated with colour and extinction of its midpoint scalar, which is exact for constant
  * pieces and converges as O(ScalarTolerance^2) otherwise (the convergence is tested). Cells whose
  * corner range has zero opacity everywhere are skipped exactly (the interpolant stays inside the
@@ -48,6 +49,8 @@
 #include "hovrRenderingCoreModule.h" // For export macro
 #include "vtkVolumeImageAlgorithm.h"
 #include "vtkVolumeScalarView.h" // For IntegrateRays
+
+#include <atomic> // For IntegrateRays
 
 class vtkVolumeShadingModel;
 class vtkVolumeTransferFunctionSampler;
@@ -177,9 +180,10 @@ public:
    * values (x fastest, dims points), t the world distance along it (v is the index-space
    * image of a unit world direction), from t = 0 through the box of the points; rgba[4 r]
    * gets its premultiplied RGBA. As in an update, integration pieces change the scalar by at
-   * most scalarTolerance times the narrowest feature the cell's values meet (features wider
+   * most scalarTolerance times the narrowest feature the piece's values meet (features wider
    * than dataRange count as that wide); rays stop when their transmittance falls below
-   * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools.
+   * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools. When abort is given
+   * and becomes true, the rays not yet begun are left out (their rgba is not written).
    */
   static void IntegrateRays(const vtkVolumeScalarView& values,
     const int dims[3],
@@ -190,7 +194,8 @@ public:
     vtkIdType count,
     const double* origins,
     const double* directions,
-    double* rgba);
+    double* rgba,
+    const std::atomic<bool>* abort = nullptr);
 #endif
 
 protected:

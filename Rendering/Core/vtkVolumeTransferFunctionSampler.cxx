@@ -448,6 +448,48 @@ double vtkVolumeTransferFunctionSampler::GetSmallestFeature(double s0, double s1
 }
 
 //------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetLongestSweep(double s,
+  double tolerance,
+  double widest,
+  double cap) const
+{
+  const std::vector<double>& x = this->Internals->Positions;
+  if (!(cap > 0.0) || !std::isfinite(s))
+  {
+    return std::max(cap, 0.0);
+  }
+  // The window (s - sigma, s + sigma) meets the same node intervals while sigma grows from the
+  // distance of one node to the next: walk the nodes outwards from s in order of distance,
+  // and stop at the first stretch where the tolerance allows less than reaching its far end.
+  auto right = std::upper_bound(x.begin(), x.end(), s); // nearest node above s
+  auto left = std::lower_bound(x.begin(), x.end(), s);  // one past the nearest node below s
+  double reached = 0.0;                                 // a sweep known to be allowed
+  for (;;)
+  {
+    const double toLeft = left != x.begin() ? s - *(left - 1) : VTK_DOUBLE_MAX;
+    const double toRight = right != x.end() ? *right - s : VTK_DOUBLE_MAX;
+    const double next = std::min(toLeft, toRight);
+    // The features of the stretch (reached, next]: those the window meets just past reached.
+    const double probe = next < VTK_DOUBLE_MAX ? 0.5 * (reached + next) : reached + 1.0;
+    const double allowed =
+      tolerance * std::min(this->GetSmallestFeature(s - probe, s + probe), widest);
+    if (allowed < next || next >= cap)
+    {
+      return std::min(std::max(allowed, reached), cap);
+    }
+    reached = next;
+    if (toLeft <= toRight)
+    {
+      --left;
+    }
+    else
+    {
+      ++right;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 double vtkVolumeTransferFunctionSampler::GetSmallestOpacityFeature() const
 {
   return SmallestGap(this->Internals->OpacityNodes, nullptr);

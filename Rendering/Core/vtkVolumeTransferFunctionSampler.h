@@ -147,6 +147,14 @@ public:
   double GetSmallestFeature(double s0, double s1) const;
 
   /**
+   * The longest scalar sweep sigma <= cap of an integration piece that starts at s, such that
+   * sigma <= tolerance * f, f being the narrowest feature (at most widest) that the values
+   * within sigma of s meet (GetSmallestFeature(s - sigma, s + sigma)): a piece far from a
+   * narrow feature needs no fine step. Requires Prepare().
+   */
+  double GetLongestSweep(double s, double tolerance, double widest, double cap) const;
+
+  /**
    * The same for the nodes of the opacity function only: what integrated quantities (opacity,
    * and colour weighted by it) vary with fastest.
    */
