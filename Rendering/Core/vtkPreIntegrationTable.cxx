@@ -5,6 +5,7 @@
 #include "vtkDataArray.h"
 #include "vtkErrorForwarder.h"
 #include "vtkFloatArray.h"
+#include "vtkLowPriorityThreads.h"
 #include "vtkSMPTools.h"
 #include "vtkTimerLog.h"
 #include "vtkVolumeTransferFunctionSampler.h"
@@ -131,6 +132,37 @@ bool vtkPreIntegrationTable::Update()
 }
 
 //------------------------------------------------------------------------------
+bool vtkPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built)
+{
+  if (!built || built == this || built->BuildCount < 1 || !built->IsA(this->GetClassName()) ||
+    built->TableSize != this->TableSize || built->SegmentLength != this->SegmentLength ||
+    built->ScalarRange[0] != this->ScalarRange[0] ||
+    built->ScalarRange[1] != this->ScalarRange[1] ||
+    built->ComputeEntries != this->ComputeEntries ||
+    built->GetNumberOfEntries() != this->GetNumberOfEntries() ||
+    built->Table->GetNumberOfTuples() != (this->ComputeEntries ? this->GetNumberOfEntries() : 0))
+  {
+    return false;
+  }
+  // The sampler must be prepared as Update() prepares it: its nodes are what the table is
+  // built for from now on.
+  if (!this->Sampler->Prepare())
+  {
+    return false;
+  }
+  std::swap(this->Table, built->Table);
+  std::swap(this->EmptyRuns, built->EmptyRuns);
+  built->Table->Initialize();
+  built->Table->SetNumberOfComponents(4);
+  built->EmptyRuns->Initialize();
+  built->BuildCount = 0;
+  this->LastBuildTime = built->LastBuildTime;
+  this->BuildCount++;
+  this->BuildMTime = std::max(this->GetMTime(), this->Sampler->GetMTime());
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkPreIntegrationTable::BuildEmptyRuns()
 {
   const int n = this->TableSize;
@@ -237,7 +269,17 @@ bool vtkPreIntegrationTable::ForInParts(vtkIdType n,
       this->BuildAborted = true;
       return false;
     }
-    vtkSMPTools::For(n * part / parts, n * (part + 1) / parts, body);
+    if (this->LowPriority)
+    {
+      const vtkIdType begin = n * part / parts, end = n * (part + 1) / parts;
+      vtkLowPriorityThreads::For(end - begin,
+        std::max<vtkIdType>((end - begin) / 64, 1),
+        [&](vtkIdType b, vtkIdType e) { body(begin + b, begin + e); });
+    }
+    else
+    {
+      vtkSMPTools::For(n * part / parts, n * (part + 1) / parts, body);
+    }
     double progress = static_cast<double>(part + 1) / parts;
     this->InvokeEvent(vtkCommand::ProgressEvent, &progress);
   }

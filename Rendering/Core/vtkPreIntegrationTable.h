@@ -119,6 +119,16 @@ public:
 
   ///@{
   /**
+   * Build in threads of low priority (vtkLowPriorityThreads) instead of vtkSMPTools': a
+   * build in the background that must not slow rendering. Initial value is false.
+   */
+  vtkSetMacro(LowPriority, bool);
+  vtkGetMacro(LowPriority, bool);
+  vtkBooleanMacro(LowPriority, bool);
+  ///@}
+
+  ///@{
+  /**
    * Set during a build (from a ProgressEvent observer, or another thread) to stop it: Update()
    * then reports an error, leaves the table empty and returns false; the flag is cleared when
    * the next build starts. Builds fire ProgressEvent (a double in [0, 1]) as they go.
@@ -128,6 +138,16 @@ public:
   vtkGetMacro(AbortBuild, bool);
   vtkBooleanMacro(AbortBuild, bool);
   ///@}
+
+  /**
+   * Take the entries of built, a table of the same class and the same settings (sizes,
+   * ranges, segment length and what a subclass adds) whose transfer functions equal this
+   * one's, built by Update() elsewhere (in a worker thread, say): this table then counts as
+   * built for its current settings, as after an Update() that built them, and built is left
+   * empty. The transfer functions are the caller's to match; the other settings are checked.
+   * Returns false, both tables untouched, when they differ or built was never built.
+   */
+  virtual bool AdoptBuild(vtkPreIntegrationTable* built);
 
   ///@{
   /**
@@ -198,6 +218,7 @@ protected:
   int BuildCount = 0;
   double LastBuildTime = 0.0;
   bool ComputeEntries = true;
+  bool LowPriority = false;
   vtkMTimeType BuildMTime = 0;
 
 private:

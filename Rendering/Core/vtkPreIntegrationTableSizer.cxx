@@ -5,6 +5,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkLowPriorityThreads.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMinimalStandardRandomSequence.h"
@@ -202,6 +203,22 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
   std::atomic<bool> AbortRequested{ false };
+  bool LowPriority = false; // loops in threads of low priority
+
+  // body(begin, end) over [0, n): with vtkSMPTools, or in threads of low priority in chunks
+  // (each of which checks for an abort).
+  template <class Body>
+  void For(vtkIdType n, const Body& body) const
+  {
+    if (this->LowPriority)
+    {
+      vtkLowPriorityThreads::For(n, 16, body);
+    }
+    else
+    {
+      vtkSMPTools::For(0, n, body);
+    }
+  }
   bool Aborted = false; // the last Prepare() or Choose() stopped on AbortRequested
 
   // Each ray's squared error against the reference (mean over the four channels) into
@@ -230,8 +247,7 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasurePieces(const Lookup& lookup, std::vector<double>& perRay) const
   {
     std::vector<double> rgba(4 * this->Rays.size(), 0.0);
-    vtkSMPTools::For(0,
-      static_cast<vtkIdType>(this->Rays.size()),
+    this->For(static_cast<vtkIdType>(this->Rays.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
         if (this->AbortRequested.load(std::memory_order_relaxed))
@@ -303,6 +319,22 @@ void vtkPreIntegrationTableSizer::CopyStatistics(vtkPreIntegrationTableSizer* ot
   this->LastChooseTime = other->LastChooseTime;
   this->MeasuredChordRange = other->MeasuredChordRange;
   this->MeasuredDeviationRange = other->MeasuredDeviationRange;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::SetLowPriority(bool low)
+{
+  if (low != this->Internals->LowPriority)
+  {
+    this->Internals->LowPriority = low;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::GetLowPriority()
+{
+  return this->Internals->LowPriority;
 }
 
 //------------------------------------------------------------------------------
@@ -540,7 +572,8 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       origins.data(),
       directions.data(),
       I.Reference.data(),
-      &I.AbortRequested);
+      &I.AbortRequested,
+      I.LowPriority);
   }
   if (I.AbortRequested)
   {
@@ -552,11 +585,10 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   if (!reusePieces)
   {
     std::vector<std::vector<Piece>> perRay(I.Rays.size());
-    vtkSMPTools::For(0,
-      static_cast<vtkIdType>(I.Rays.size()),
+    I.For(static_cast<vtkIdType>(I.Rays.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
-        for (vtkIdType r = begin; r < end; ++r)
+        for (vtkIdType r = begin; r < end && !I.AbortRequested; ++r)
         {
           RecordPieces record{ &perRay[r] };
           double rgba[4];
@@ -866,6 +898,8 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
 
   // Whether candidate i is, with confidence, within half the Tolerance of the exact segment
   // model (or better): finer tables converge to that model, so the search can stop there.
+  // Confidence matters: a finer table can still beat the model by far more than a level
+  // within half the Tolerance of it as measured suggests.
   auto nearExact = [&](int i)
   {
     const std::vector<double>& exact = I.ExactPerRay;

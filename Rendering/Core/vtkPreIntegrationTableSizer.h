@@ -215,6 +215,17 @@ public:
    */
   void GetLastMeasurePerRay(vtkDoubleArray* errors);
 
+  ///@{
+  /**
+   * Measure in threads of low priority (vtkLowPriorityThreads) instead of vtkSMPTools': a
+   * measurement in the background that must not slow rendering. Not copied by
+   * CopySettings(). Initial value is false.
+   */
+  virtual void SetLowPriority(bool low);
+  virtual bool GetLowPriority();
+  vtkBooleanMacro(LowPriority, bool);
+  ///@}
+
   /**
    * Take the settings of other (NumberOfRays, Seed, Tolerance, MaximumMemory, BytesPerEntry,
    * MaximumAxisSize, ReferenceTolerance, MeasureExactModel, MeasurePrefilter,

@@ -30,6 +30,27 @@ vtkSecondOrderPreIntegrationTable::~vtkSecondOrderPreIntegrationTable()
 }
 
 //------------------------------------------------------------------------------
+bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built)
+{
+  auto* other = vtkSecondOrderPreIntegrationTable::SafeDownCast(built);
+  if (!other || other->ChordSize != this->ChordSize ||
+    other->GetEffectiveChordRange() != this->GetEffectiveChordRange() ||
+    other->DeviationSize != this->DeviationSize ||
+    other->GetEffectiveDeviationRange() != this->GetEffectiveDeviationRange() ||
+    other->Iterations != this->Iterations || other->Prefilter != this->Prefilter ||
+    other->Moments != this->Moments || other->SlabMoments != this->SlabMoments ||
+    !this->Superclass::AdoptBuild(built))
+  {
+    return false;
+  }
+  std::swap(this->IterationTable, other->IterationTable);
+  std::swap(this->IterationEmptyRuns, other->IterationEmptyRuns);
+  this->IterationSamples = other->IterationSamples;
+  this->IterationSamplesPerSpacing = other->IterationSamplesPerSpacing;
+  return true;
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntries() const
 {
   return static_cast<vtkIdType>(this->TableSize) * this->ChordSize * this->DeviationSize *

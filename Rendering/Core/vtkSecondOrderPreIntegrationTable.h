@@ -55,6 +55,12 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   int GetNumberOfDimensions() const override { return 3; }
+
+  /**
+   * Also checks the chord and deviation axes, iterations, prefilter and moment layers, and
+   * takes the iteration table with the entries.
+   */
+  bool AdoptBuild(vtkPreIntegrationTable* built) override;
   vtkIdType GetNumberOfEntries() const override;
 
   ///@{

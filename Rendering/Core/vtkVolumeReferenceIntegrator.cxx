@@ -12,6 +12,7 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLowPriorityThreads.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
@@ -771,30 +772,37 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
   const double* origins,
   const double* directions,
   double* rgba,
-  const std::atomic<bool>* abort)
+  const std::atomic<bool>* abort,
+  bool lowPriority)
 {
   VolumeGrid grid;
   grid.Values = values;
   std::copy(dims, dims + 3, grid.Dims);
   RayCaster caster(grid, nullptr, sampler, scalarTolerance, dataRange, cutoff, 1, nullptr);
-  vtkSMPTools::For(0,
-    count,
-    [&](vtkIdType begin, vtkIdType end)
+  auto integrate = [&](vtkIdType begin, vtkIdType end)
+  {
+    for (vtkIdType r = begin; r < end; ++r)
     {
-      for (vtkIdType r = begin; r < end; ++r)
+      if (abort && abort->load(std::memory_order_relaxed))
       {
-        if (abort && abort->load(std::memory_order_relaxed))
-        {
-          return;
-        }
-        vtkGridRayTraversal walk;
-        std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
-        if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
-        {
-          caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r);
-        }
+        return;
       }
-    });
+      vtkGridRayTraversal walk;
+      std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
+      if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
+      {
+        caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r);
+      }
+    }
+  };
+  if (lowPriority)
+  {
+    vtkLowPriorityThreads::For(count, 16, integrate);
+  }
+  else
+  {
+    vtkSMPTools::For(0, count, integrate);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -182,8 +182,9 @@ public:
    * gets its premultiplied RGBA. As in an update, integration pieces change the scalar by at
    * most scalarTolerance times the narrowest feature the piece's values meet (features wider
    * than dataRange count as that wide); rays stop when their transmittance falls below
-   * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools. When abort is given
-   * and becomes true, the rays not yet begun are left out (their rgba is not written).
+   * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools, or with lowPriority
+   * in threads of low priority (vtkLowPriorityThreads). When abort is given and becomes
+   * true, the rays not yet begun are left out (their rgba is not written).
    */
   static void IntegrateRays(const vtkVolumeScalarView& values,
     const int dims[3],
@@ -195,7 +196,8 @@ public:
     const double* origins,
     const double* directions,
     double* rgba,
-    const std::atomic<bool>* abort = nullptr);
+    const std::atomic<bool>* abort = nullptr,
+    bool lowPriority = false);
 #endif
 
 protected:

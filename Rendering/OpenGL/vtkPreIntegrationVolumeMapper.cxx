@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationVolumeMapper.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
@@ -17,6 +18,9 @@
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkPreIntegrationTableSizer.h"
+#include "vtkPreIntegrationTableSizing.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
@@ -57,7 +61,7 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   : FirstOrderTable(vtkSecondOrderPreIntegrationTable::New())
   , ShadingModel(vtkVolumeShadingModel::New())
   , SecondOrderTable(vtkSecondOrderPreIntegrationTable::New())
-  , TableSizer(vtkPreIntegrationTableSizer::New())
+  , TableSizing(vtkPreIntegrationTableSizing::New())
   , GPUBuilder(vtkOpenGLPreIntegrationTableBuilder::New())
   , NormalBricks(vtkOpenGLVolumeBricks::New())
   , TableTexture(vtkTextureObject::New())
@@ -71,7 +75,8 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->FirstOrderTable->Delete();
   this->ShadingModel->Delete();
   this->SecondOrderTable->Delete();
-  this->TableSizer->Delete();
+  this->StopWatching();
+  this->TableSizing->Delete();
   this->GPUBuilder->Delete();
   this->TableTexture->Delete();
   this->EmptyRunsTexture->Delete();
@@ -346,13 +351,13 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
   this->WarnIfTransparent(table->GetSampler(), dataRange);
   vtkOpenGLRenderWindow* context = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  // A GPU build integrates from what Update() prepares; the CPU then skips the entries. The
+  // GPU builder integrates colours, not moments: shaded tables are built on the CPU.
+  table->SetComputeEntries(!(secondOrder && layers == 0 && this->BuildOnGPU(context)));
   if (!this->SizeTable(context, scalars, cellFlag, range))
   {
     return DrawNothing;
   }
-  // A GPU build integrates from what Update() prepares; the CPU then skips the entries. The
-  // GPU builder integrates colours, not moments: shaded tables are built on the CPU.
-  table->SetComputeEntries(!(secondOrder && layers == 0 && this->BuildOnGPU(context)));
   if (!table->Update() || !this->UploadTable(ren))
   {
     vtkErrorMacro("The pre-integration table could not be built; not drawing.");
@@ -614,7 +619,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     }
     table->SetDeviationSize(secondOrder ? std::min(size, deviationLimit) : 1);
     table->SetDeviationRange(0.0);
-    this->TableSizeKey.clear();
+    this->TableSizing->Reset();
     return true;
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
@@ -628,6 +633,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     table->SetChordRange(0.0);
     table->SetDeviationSize(secondOrder ? 65 : 1);
     table->SetDeviationRange(0.0);
+    this->TableSizing->Reset();
     return true;
   }
   const int precision = this->GetEffectiveTablePrecision();
@@ -647,28 +653,125 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     static_cast<double>(limit),
     static_cast<double>(this->TablePrefilter),
     static_cast<double>(table->GetIterations()) };
-  if (key == this->TableSizeKey)
-  {
-    return true;
-  }
   // The sizer takes at most 64 bytes per entry, no more than 4 float layers hold, fewer than 8: it
   // sizes one layer within the limit's share of one layer.
-  this->TableSizer->SetMaximumMemory(std::max(this->TableMemoryLimit / layers, 1024.0));
-  this->TableSizer->SetBytesPerEntry(bytes[precision] / layers);
-  this->TableSizer->SetMaximumAxisSize(limit);
-  this->TableSizer->SetOpacityThreshold(this->OpacityThreshold);
-  this->TableSizer->SetMeasurePrefilter(measurePrefilter);
-  if (!this->TableSizer->Choose(input, scalars, table, secondOrder ? 2 : 1, this->SampleDistance))
+  vtkPreIntegrationTableSizer* sizer = this->TableSizing->GetSizer();
+  sizer->SetMaximumMemory(std::max(this->TableMemoryLimit / layers, 1024.0));
+  sizer->SetBytesPerEntry(bytes[precision] / layers);
+  sizer->SetMaximumAxisSize(limit);
+  sizer->SetOpacityThreshold(this->OpacityThreshold);
+  sizer->SetMeasurePrefilter(measurePrefilter);
+  if (!this->TableSizing->Update(key,
+        input,
+        scalars,
+        table,
+        secondOrder ? 2 : 1,
+        this->SampleDistance,
+        secondOrder ? deviationLimit : 1,
+        table->GetComputeEntries()))
   {
     vtkErrorMacro("No pre-integration table could be sized; not drawing.");
     return false;
   }
-  if (secondOrder)
-  {
-    table->SetDeviationSize(std::min(table->GetDeviationSize(), deviationLimit));
-  }
-  this->TableSizeKey = key;
   return true;
+}
+
+//------------------------------------------------------------------------------
+vtkPreIntegrationTableSizer* vtkPreIntegrationVolumeMapper::GetTableSizer()
+{
+  return this->TableSizing->GetSizer();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetRefineInBackground(bool refine)
+{
+  if (refine != this->TableSizing->GetRefineInBackground())
+  {
+    this->TableSizing->SetRefineInBackground(refine);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::GetRefineInBackground()
+{
+  return this->TableSizing->GetRefineInBackground();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::GetRefining()
+{
+  return this->TableSizing->IsRefining();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::GetRefinementReady()
+{
+  return this->TableSizing->IsRefinementReady();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationVolumeMapper::CheckRefinement()
+{
+  if (!this->TableSizing->IsRefinementReady())
+  {
+    return false;
+  }
+  this->InvokeEvent(TablesRefinedEvent);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::WaitForRefinement()
+{
+  this->TableSizing->WaitForRefinement();
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::WatchRefinement(vtkRenderWindowInteractor* interactor)
+{
+  this->StopWatching();
+  this->WatchedInteractor = interactor;
+  if (interactor)
+  {
+    vtkNew<vtkCallbackCommand> callback;
+    callback->SetCallback(&vtkPreIntegrationVolumeMapper::OnWatchTimer);
+    callback->SetClientData(this);
+    this->WatchObserver = interactor->AddObserver(vtkCommand::TimerEvent, callback);
+    // One timer for the whole watch, never destroyed from its own callback: VTK's X
+    // interactor walks its timers while it calls them, and a timer destroyed there crashes it.
+    this->WatchTimer = interactor->CreateRepeatingTimer(50);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::StopWatching()
+{
+  if (vtkRenderWindowInteractor* interactor = this->WatchedInteractor)
+  {
+    if (this->WatchTimer != 0)
+    {
+      interactor->DestroyTimer(this->WatchTimer);
+    }
+    interactor->RemoveObserver(this->WatchObserver);
+  }
+  this->WatchTimer = 0;
+  this->WatchObserver = 0;
+  this->WatchedInteractor = nullptr;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::OnWatchTimer(vtkObject*,
+  unsigned long,
+  void* clientData,
+  void* callData)
+{
+  auto* self = static_cast<vtkPreIntegrationVolumeMapper*>(clientData);
+  const int timer = callData ? *static_cast<int*>(callData) : -1;
+  if (self->WatchTimer != 0 && timer == self->WatchTimer)
+  {
+    self->CheckRefinement();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -997,4 +1100,5 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GradientInterpolation: " << this->GetGradientInterpolation() << "\n";
   os << indent << "Gooch: " << this->GetGooch() << "\n";
   os << indent << "TableMemoryLimit: " << static_cast<vtkIdType>(this->TableMemoryLimit) << "\n";
+  os << indent << "RefineInBackground: " << this->GetRefineInBackground() << "\n";
 }

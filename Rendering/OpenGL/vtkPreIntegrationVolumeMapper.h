@@ -63,7 +63,9 @@
 #define vtkPreIntegrationVolumeMapper_h
 
 #include "hovrRenderingOpenGLModule.h" // For export macro
+#include "vtkCommand.h"                // For TablesRefinedEvent
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
+#include "vtkWeakPointer.h" // For the watched interactor
 
 #include <string> // For std::string
 #include <vector> // For std::vector
@@ -72,6 +74,8 @@ class vtkOpenGLPreIntegrationTableBuilder;
 class vtkOpenGLRenderWindow;
 class vtkOpenGLVolumeBricks;
 class vtkPreIntegrationTableSizer;
+class vtkPreIntegrationTableSizing;
+class vtkRenderWindowInteractor;
 class vtkSecondOrderPreIntegrationTable;
 class vtkTextureObject;
 class vtkVolumeShadingModel;
@@ -161,9 +165,71 @@ public:
 
   /**
    * What the automatic sizes measured last (candidates, errors, the exact segment model's
-   * error, time).
+   * error, time): the statistics of the measured table in use.
    */
-  vtkPreIntegrationTableSizer* GetTableSizer() { return this->TableSizer; }
+  vtkPreIntegrationTableSizer* GetTableSizer();
+
+  /**
+   * When the automatic sizes are measured (at once, or in the background after interim
+   * sizes), and its statistics.
+   */
+  vtkPreIntegrationTableSizing* GetTableSizing() { return this->TableSizing; }
+
+  /**
+   * Fired by CheckRefinement() (and the watch of WatchRefinement()) when a table measured in
+   * the background waits to be drawn: render again to draw it.
+   */
+  enum RefinementEvents
+  {
+    TablesRefinedEvent = vtkCommand::UserEvent + 7301
+  };
+
+  ///@{
+  /**
+   * Answer first, refine after: when the automatic sizes must be measured (the transfer
+   * functions, the data, the sample distance, the order or the shading changed), draw that
+   * frame at once with interim sizes (the last measured ones, or a small table over every
+   * chord; vtkPreIntegrationTableSizing) and measure and build the table in a worker thread;
+   * a newer change stops an older measurement. When the measured table is ready,
+   * CheckRefinement() fires TablesRefinedEvent, and the next render draws it. Off (batch
+   * use: pvbatch, hovr render, the bench, tests), every frame waits for its measured table
+   * and is deterministic. No effect with a fixed TableSize. Initial value is false.
+   */
+  virtual void SetRefineInBackground(bool refine);
+  virtual bool GetRefineInBackground();
+  vtkBooleanMacro(RefineInBackground, bool);
+  ///@}
+
+  /**
+   * Whether the last frame was drawn with interim sizes whose measured table is not drawn
+   * yet (being measured, or waiting for the next render).
+   */
+  bool GetRefining();
+
+  /**
+   * Whether a table measured in the background waits for the next render.
+   */
+  bool GetRefinementReady();
+
+  /**
+   * Fires TablesRefinedEvent and returns true when a table measured in the background waits
+   * for the next render; call it from the application's event loop (a timer), or let
+   * WatchRefinement() do so.
+   */
+  bool CheckRefinement();
+
+  /**
+   * Block until the background measurement of the last frame's table is done (the next
+   * render then draws it).
+   */
+  void WaitForRefinement();
+
+  /**
+   * Watch for refined tables from a repeating timer of this interactor (every 50 ms):
+   * CheckRefinement() then fires TablesRefinedEvent in its event loop, where an observer can
+   * render. nullptr stops watching. The interactor is not kept alive.
+   */
+  void WatchRefinement(vtkRenderWindowInteractor* interactor);
 
   ///@{
   /**
@@ -426,10 +492,14 @@ protected:
   // The shading switches of the GLSL last inserted (empty: unshaded).
   std::string ShadingSwitches;
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
-  vtkPreIntegrationTableSizer* TableSizer;
+  vtkPreIntegrationTableSizing* TableSizing;
   double TableMemoryLimit = 64.0 * 1024.0 * 1024.0;
-  // What the sizes were last measured for.
-  std::vector<double> TableSizeKey;
+  // WatchRefinement(): the interactor, its timer (0: none) and the observer's tag.
+  vtkWeakPointer<vtkRenderWindowInteractor> WatchedInteractor;
+  int WatchTimer = 0;
+  unsigned long WatchObserver = 0;
+  void StopWatching();
+  static void OnWatchTimer(vtkObject*, unsigned long, void* clientData, void* callData);
   vtkOpenGLPreIntegrationTableBuilder* GPUBuilder;
   vtkTextureObject* TableTexture;
   vtkTextureObject* EmptyRunsTexture;

@@ -1,6 +1,7 @@
 """The Python and C++ examples run and report both pre-integrations beating the stock
-mapper, the analytic isosurface finding the thin surfaces VTK's sampled one misses, and the
-object-order CPU mapper hiding most of the volume with an error like VTK's CPU mapper."""
+mapper, the analytic isosurface finding the thin surfaces VTK's sampled one misses, the
+object-order CPU mapper hiding most of the volume with an error like VTK's CPU mapper, and
+background refinement drawing a drag at once and its refined frame after."""
 
 import os
 import re
@@ -89,4 +90,16 @@ errors = [float(e) for e in re.findall(r"RMSE ([0-9.]+)", process.stdout)]
 c.check(re.search(r"chosen by the sizer: \d+x\d+x\d+", process.stdout) is not None
         and len(errors) >= 4 and all(0.0 < e < 1.0 for e in errors),
         "table sweep prints the chosen table and the errors of the exact model and the sweep")
+# Answer first, refine after, in an interactor's event loop: a drag of timer edits, each drawn
+# with an interim table, then the refined frame the mapper's event asks for.
+process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                       "interactive_refinement.py"),
+                          "--offscreen", "--points", "64", "--edits", "10"],
+                         capture_output=True, text=True, timeout=300)
+print("interactive refinement", process.stdout.strip())
+c.check(process.returncode == 0, "interactive refinement exits 0 (%s)" % process.stderr.strip())
+c.check(re.search(r"drag: 10 edits drawn at once, .*refining: True", process.stdout) is not None,
+        "interactive refinement: the last edit of the drag is drawn with an interim table")
+c.check(re.search(r"refined frame [0-9.]+ s after the last edit", process.stdout) is not None,
+        "interactive refinement: TablesRefinedEvent brings the refined frame")
 c.finish()

@@ -2,8 +2,10 @@
 #include "pqHovrVolumeBehavior.h"
 
 #include "pqApplicationCore.h"
+#include "pqCoreUtilities.h"
 #include "pqRepresentation.h"
 #include "pqServerManagerModel.h"
+#include "pqView.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkDataObject.h"
@@ -17,6 +19,11 @@
 #include "vtkSMPropertyIterator.h"
 #include "vtkSMProxy.h"
 
+#include <QLabel>
+#include <QMainWindow>
+#include <QStatusBar>
+
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -139,6 +146,8 @@ void OnRepresentationModified(vtkObject*, unsigned long, void* clientData, void*
 pqHovrVolumeBehavior::pqHovrVolumeBehavior(QObject* parent)
   : Superclass(parent)
 {
+  this->Poll.setInterval(100);
+  QObject::connect(&this->Poll, &QTimer::timeout, this, &pqHovrVolumeBehavior::onPoll);
 }
 
 //------------------------------------------------------------------------------
@@ -152,9 +161,103 @@ void pqHovrVolumeBehavior::onStartup()
     &pqServerManagerModel::representationAdded,
     this,
     &pqHovrVolumeBehavior::onRepresentationAdded);
+  QObject::connect(
+    model, &pqServerManagerModel::viewAdded, this, &pqHovrVolumeBehavior::onViewAdded);
   for (pqRepresentation* representation : model->findItems<pqRepresentation*>())
   {
     this->onRepresentationAdded(representation);
+  }
+  for (pqView* view : model->findItems<pqView*>())
+  {
+    this->onViewAdded(view);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onViewAdded(pqView* view)
+{
+  QObject::connect(view, &pqView::endRender, this, &pqHovrVolumeBehavior::onViewRendered);
+}
+
+//------------------------------------------------------------------------------
+int pqHovrVolumeBehavior::RefinementState(pqView* view)
+{
+  int state = 0;
+  for (pqRepresentation* representation : view->getRepresentations())
+  {
+    vtkSMProxy* proxy = representation->getProxy();
+    // The exposed property of the "hovr Volume" subproxy, asked of that subproxy.
+    vtkSMProperty* property = proxy ? proxy->GetProperty("HovrRefinementState") : nullptr;
+    vtkSMProxy* hovr = property ? property->GetParent() : nullptr;
+    if (!hovr || !representation->isVisible())
+    {
+      continue;
+    }
+    hovr->UpdatePropertyInformation(property);
+    state = std::max(state, vtkSMPropertyHelper(property).GetAsInt());
+  }
+  return state;
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onViewRendered()
+{
+  auto* view = qobject_cast<pqView*>(this->sender());
+  if (!view || this->Refining.contains(view) || RefinementState(view) == 0)
+  {
+    return;
+  }
+  this->Refining.push_back(view);
+  this->ShowStatus(tr("hovr: refining the pre-integration table"));
+  if (!this->Poll.isActive())
+  {
+    this->Poll.start();
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::ShowStatus(const QString& text)
+{
+  if (!this->Status)
+  {
+    auto* window = qobject_cast<QMainWindow*>(pqCoreUtilities::mainWidget());
+    if (!window)
+    {
+      return;
+    }
+    this->Status = new QLabel(window->statusBar());
+    this->Status->setObjectName("hovrRefinementStatus");
+    window->statusBar()->addPermanentWidget(this->Status);
+  }
+  this->Status->setText(text);
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::onPoll()
+{
+  QVector<QPointer<pqView>> still;
+  for (const QPointer<pqView>& view : this->Refining)
+  {
+    if (!view)
+    {
+      continue;
+    }
+    const int state = RefinementState(view);
+    if (state == 2)
+    {
+      // Its end re-enters onViewRendered, which polls again if another change is refining.
+      this->ShowStatus(tr("hovr: pre-integration table refined"));
+      view->render();
+    }
+    else if (state == 1)
+    {
+      still.push_back(view);
+    }
+  }
+  this->Refining = still;
+  if (this->Refining.isEmpty())
+  {
+    this->Poll.stop();
   }
 }
 
@@ -185,6 +288,13 @@ void pqHovrVolumeBehavior::onRepresentationAdded(pqRepresentation* representatio
   for (properties->Begin(); !properties->IsAtEnd(); properties->Next())
   {
     WidenVolumeDecorators(properties->GetProperty()->GetHints());
+  }
+  // The GUI answers every edit at once and refines after; pvbatch and pvpython keep the
+  // default (frames wait for their measured tables).
+  if (vtkSMProperty* refine = proxy->GetProperty("HovrRefineInBackground"))
+  {
+    vtkSMPropertyHelper(refine).Set(1);
+    proxy->UpdateVTKObjects();
   }
   if (vtkSMProperty* type = proxy->GetProperty("Representation"))
   {

@@ -12,14 +12,25 @@
  *     is widened to "Volume" or "hovr Volume" (and "not Volume" to "neither"), in the proxy's
  *     hints, before its panel is built;
  *   - switching a representation to "hovr Volume" colours it by its first point array, with
- *     the transfer functions rescaled to the data range, as ParaView does for "Volume".
+ *     the transfer functions rescaled to the data range, as ParaView does for "Volume";
+ *   - every new "hovr Volume" refines its tables in the background (HovrRefineInBackground:
+ *     an edit is drawn at once with interim table sizes), and after each render of a view
+ *     that draws interim tables the behaviour asks the representations, every 100 ms, where
+ *     their measurement stands (HovrRefinementState) and renders the view again when a
+ *     measured table waits; a label in the main window's status bar says so
+ *     ("hovrRefinementStatus": refining, then refined).
  */
 #ifndef pqHovrVolumeBehavior_h
 #define pqHovrVolumeBehavior_h
 
 #include <QObject>
+#include <QPointer>
+#include <QTimer>
+#include <QVector>
 
+class QLabel;
 class pqRepresentation;
+class pqView;
 class vtkPVXMLElement;
 
 class pqHovrVolumeBehavior : public QObject
@@ -43,8 +54,19 @@ public:
 
 private Q_SLOTS:
   void onRepresentationAdded(pqRepresentation* representation);
+  void onViewAdded(pqView* view);
+  // After a view's render: poll it while its hovr representations draw interim tables.
+  void onViewRendered();
+  void onPoll();
 
 private:
+  // Where the hovr representations of a view stand: the largest RefinementState.
+  static int RefinementState(pqView* view);
+  // Shows what the refinement does in the status bar (made on first use).
+  void ShowStatus(const QString& text);
+  QVector<QPointer<pqView>> Refining;
+  QTimer Poll;
+  QPointer<QLabel> Status;
   Q_DISABLE_COPY(pqHovrVolumeBehavior)
 };
 

@@ -16,6 +16,7 @@
 #include "vtkObjectOrderVolumeMapper.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPreIntegrationVolumeMapper.h"
+#include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
 #include "vtkVolumeProperty.h"
 
@@ -176,6 +177,10 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
       normals = nullptr;
     }
     mapper->SetNormalArrayName(normals);
+    // A batch process's frames are its results: they wait for their measured tables.
+    vtkProcessModule* module = vtkProcessModule::GetProcessModule();
+    const bool batch = module && module->GetProcessType() == vtkProcessModule::PROCESS_BATCH;
+    mapper->SetRefineInBackground(this->RefineInBackground && !batch);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -272,6 +277,17 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
 }
 
 //------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::GetRefinementState()
+{
+  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
+  if (!mapper || !mapper->GetRefining())
+  {
+    return REFINEMENT_NONE;
+  }
+  return mapper->GetRefinementReady() ? REFINEMENT_READY : REFINEMENT_RUNNING;
+}
+
+//------------------------------------------------------------------------------
 void vtkHovrVolumeRepresentation::SetBlendMode(int blend)
 {
   if (this->BlendMode != blend)
@@ -320,4 +336,5 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OracleMode: " << this->OracleMode << "\n";
   os << indent << "OracleEpsilon: " << this->OracleEpsilon << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
+  os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
 }

@@ -235,6 +235,29 @@ public:
    */
   vtkGetMacro(EffectiveSampleDistance, double);
 
+  ///@{
+  /**
+   * Pre-integration: draw each change at once with interim table sizes and measure the table
+   * in the background (vtkPreIntegrationVolumeMapper::SetRefineInBackground); the GUI turns it
+   * on, and re-renders when the measured table is ready (GetRefinementState). Ignored by
+   * pvbatch, whose frames always wait for their measured tables. Initial value is false.
+   */
+  vtkSetMacro(RefineInBackground, bool);
+  vtkGetMacro(RefineInBackground, bool);
+  ///@}
+
+  enum RefinementStates
+  {
+    REFINEMENT_NONE = 0,    ///< the table drawn is the measured one (or none is measured)
+    REFINEMENT_RUNNING = 1, ///< interim sizes drawn, the measurement runs
+    REFINEMENT_READY = 2    ///< the measured table waits for the next render
+  };
+
+  /**
+   * Where the background measurement of the current mapper stands (RefinementStates).
+   */
+  int GetRefinementState();
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;
@@ -279,6 +302,7 @@ protected:
   double OracleEpsilon;
   double EffectiveSampleDistance = 0.0;
   bool WarnedDistributedProjection = false;
+  bool RefineInBackground = false;
 
 private:
   vtkHovrVolumeRepresentation(const vtkHovrVolumeRepresentation&) = delete;

@@ -1,0 +1,172 @@
+"""vtkPreIntegrationTableRefiner and vtkPreIntegrationTableSizing, without OpenGL.
+
+On a Marschner-Lobb volume (40^3, generated here) with a spike transfer function, both
+orders:
+- a request measured and built in the worker gives a table the same sizes as
+  vtkPreIntegrationTableSizer::Choose in the calling thread, and entries equal (exactly) to
+  that table built by Update(); the receiving table counts as built (AdoptBuild: BuildCount up
+  by one, a later Update() builds nothing);
+- a receiving table whose settings differ (Iterations) takes the sizes but not the entries,
+  and builds them itself, the same values again;
+- held requests (Paused) are not started; of 10 requests only the newest is measured, the 9
+  others count as stopped; Cancel() drops the newest, and nothing is ready after it;
+- a request the sizer cannot serve (a transfer function without nodes) fails with a message
+  (GetFailure) instead of printing from the worker thread;
+- vtkPreIntegrationTableSizing with RefineInBackground: the first Update() answers with an
+  interim table of at most InterimEntries entries, a later Update() with the same key takes
+  the measured one; the same key again changes nothing; without it, Update() measures at once;
+- deleting a refiner in the middle of a measurement returns (the worker stops at its next
+  check).
+"""
+
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+
+import hovr
+from hovrtesting import Checker
+
+c = Checker()
+source = hovr.vtkMarschnerLobbSource()
+source.SetDimensions(40, 40, 40)
+source.Update()
+image = source.GetOutput()
+scalars = image.GetPointData().GetScalars()
+low, high = scalars.GetRange()
+step = image.GetSpacing()[0]
+
+
+def make_property(peak=0.6):
+    opacity = vtkPiecewiseFunction()
+    for x, a in ((0.0, 0.0), (0.47, 0.0), (0.5, peak), (0.53, 0.0), (1.0, 0.0)):
+        opacity.AddPoint(low + x * (high - low), a)
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(low, 0.1, 0.3, 1.0)
+    color.AddRGBPoint(high, 1.0, 0.6, 0.1)
+    prop = vtkVolumeProperty()
+    prop.SetScalarOpacity(opacity)
+    prop.SetColor(color)
+    prop.SetScalarOpacityUnitDistance(0.1)
+    return prop
+
+
+def make_table(prop, order, iterations=64):
+    table = hovr.vtkSecondOrderPreIntegrationTable()
+    table.SetVolumeProperty(prop)
+    table.SetScalarRange(low, high)
+    table.SetSegmentLength(order * step)
+    table.SetIterations(iterations)
+    return table
+
+
+def sizes(table):
+    return (table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize())
+
+
+def entries(table):
+    return vtk_to_numpy(table.GetTable()).copy()
+
+
+prop = make_property()
+for order in (1, 2):
+    name = "order %d" % order
+    # In the calling thread: the sizes and the entries to compare with.
+    expected = make_table(prop, order)
+    hovr.vtkPreIntegrationTableSizer().Choose(image, scalars, expected, order, step)
+    expected.Update()
+
+    refiner = hovr.vtkPreIntegrationTableRefiner()
+    request = refiner.Request(image, scalars, make_table(prop, order), order, step, 4097, True)
+    refiner.Wait()
+    c.check(refiner.IsReady(request), "%s: the request's result waits" % name)
+    table = make_table(prop, order)
+    c.check(refiner.TakeResult(request, table), "%s: the result is taken" % name)
+    c.check(sizes(table) == sizes(expected), "%s: the worker's sizes %s are the calling "
+            "thread's %s" % (name, sizes(table), sizes(expected)))
+    c.check(table.GetBuildCount() == 1, "%s: the table counts as built" % name)
+    adopted = entries(table)
+    c.check(table.Update() and table.GetBuildCount() == 1,
+            "%s: Update() after the result builds nothing" % name)
+    c.check(adopted.shape == entries(expected).shape and
+            numpy.array_equal(adopted, entries(expected)),
+            "%s: the worker's entries equal the table built here" % name)
+    c.check(not refiner.IsReady(request), "%s: a result is taken once" % name)
+
+    # Other settings: the sizes are taken, the entries built by the table itself.
+    request = refiner.Request(image, scalars, make_table(prop, order), order, step, 4097, True)
+    refiner.Wait()
+    other = make_table(prop, order, iterations=32)
+    c.check(refiner.TakeResult(request, other) and other.GetBuildCount() == 0,
+            "%s: a table of other settings takes the sizes only" % name)
+    c.check(other.Update() and sizes(other) == sizes(expected),
+            "%s: and builds its own entries" % name)
+
+    # Held, superseded, cancelled.
+    refiner.SetPaused(True)
+    before = (refiner.GetNumberOfCompleted(), refiner.GetNumberOfStopped())
+    requests = [refiner.Request(image, scalars, make_table(make_property(0.1 + 0.05 * k), order),
+                                order, step, 4097, True) for k in range(10)]
+    refiner.Wait()
+    c.check(not refiner.IsReady(requests[-1]) and refiner.IsBusy(),
+            "%s: held requests are not started" % name)
+    refiner.SetPaused(False)
+    refiner.Wait()
+    c.check(refiner.IsReady(requests[-1]) and not any(refiner.IsReady(r) for r in requests[:-1]),
+            "%s: only the newest of 10 requests is measured" % name)
+    c.check(refiner.GetNumberOfCompleted() - before[0] == 1 and
+            refiner.GetNumberOfStopped() - before[1] == 9,
+            "%s: 1 completed, 9 stopped (%d, %d)" % (
+                name, refiner.GetNumberOfCompleted() - before[0],
+                refiner.GetNumberOfStopped() - before[1]))
+    request = refiner.Request(image, scalars, make_table(prop, order), order, step, 4097, True)
+    refiner.Cancel()
+    refiner.Wait()
+    c.check(not refiner.IsReady(request) and not refiner.IsBusy(),
+            "%s: a cancelled request leaves nothing" % name)
+
+    # A request the sizer cannot serve.
+    empty = vtkVolumeProperty()
+    empty.SetScalarOpacity(vtkPiecewiseFunction())
+    empty.SetColor(prop.GetRGBTransferFunction())
+    request = refiner.Request(image, scalars, make_table(empty, order), order, step, 4097, True)
+    refiner.Wait()
+    failure = refiner.GetFailure(request)
+    c.check(refiner.Failed(request) and "opacity" in failure,
+            "%s: a failed request says why (%r)" % (name, failure))
+
+    # The sizing policy.
+    sizing = hovr.vtkPreIntegrationTableSizing()
+    sizing.SetRefineInBackground(True)
+    key = [1.0, float(order)]
+    table = make_table(prop, order)
+    c.check(sizing.Update(key, image, scalars, table, order, step, 4097, True),
+            "%s: the first update answers" % name)
+    c.check(sizing.IsRefining() and table.GetNumberOfEntries() <= sizing.GetInterimEntries(),
+            "%s: with an interim table of at most %d entries (%d)" % (
+                name, sizing.GetInterimEntries(), table.GetNumberOfEntries()))
+    sizing.WaitForRefinement()
+    c.check(sizing.IsRefinementReady(), "%s: the measured table waits" % name)
+    sizing.Update(key, image, scalars, table, order, step, 4097, True)
+    c.check(not sizing.IsRefining() and sizes(table) == sizes(expected) and
+            numpy.array_equal(entries(table), entries(expected)),
+            "%s: the next update with the same key takes the measured table" % name)
+    requests = sizing.GetRefiner().GetNumberOfRequests()
+    sizing.Update(key, image, scalars, table, order, step, 4097, True)
+    c.check(sizing.GetRefiner().GetNumberOfRequests() == requests and not sizing.IsRefining(),
+            "%s: the same key again changes nothing" % name)
+    sizing.SetRefineInBackground(False)
+    sizing.Update([2.0, float(order)], image, scalars, table, order, step, 4097, True)
+    c.check(not sizing.IsRefining() and sizes(table) == sizes(expected),
+            "%s: without background refinement, sizes measured at once" % name)
+
+# A refiner deleted while it measures: the worker stops at its next check.
+big = hovr.vtkMarschnerLobbSource()
+big.SetDimensions(96, 96, 96)
+big.Update()
+refiner = hovr.vtkPreIntegrationTableRefiner()
+refiner.Request(big.GetOutput(), big.GetOutput().GetPointData().GetScalars(),
+                make_table(prop, 2), 2, step, 4097, True)
+del refiner  # would hang here (ctest's timeout) if the worker did not stop
+print("a refiner deleted during a measurement returned")
+c.finish()

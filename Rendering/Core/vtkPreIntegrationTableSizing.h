@@ -1,0 +1,147 @@
+// hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
+/**
+ * @class   vtkPreIntegrationTableSizing
+ * @brief   the sizes a pre-integration table is drawn with, frame by frame: measured at once,
+ *          or cheap at once and measured in the background
+ *
+ * A renderer calls Update() before each frame with a key of everything its table's sizes
+ * depend on (the data, the transfer functions, the order, the sample distance, the limits).
+ * While the key stays the same nothing is done. When it changes:
+ *   - by default the sizes are measured at once (vtkPreIntegrationTableSizer::Choose): the
+ *     frame waits for them and every frame is the measured one (batch use: deterministic);
+ *   - with RefineInBackground the frame is drawn at once with interim sizes, and a
+ *     vtkPreIntegrationTableRefiner measures and builds the table in a worker thread (a newer
+ *     key stops an older measurement). The interim sizes are the table's own when it was
+ *     measured for the same order (a new transfer function, time step or sample distance keeps
+ *     the last measured sizes and ranges), else TableSize 129 (first order; 65 for second
+ *     order) over every chord and deviation; either is cut to at most InterimEntries entries
+ *     by halving its axes, so that it builds in a few milliseconds. IsRefinementReady() tells
+ *     when the measured table waits, and the next Update() with the same key gives it to the
+ *     table (sizes and entries). A failed measurement is reported once and the interim table
+ *     stays.
+ * GetSizer() holds the sizer settings both ways use, and the statistics of the last measured
+ * sizes in use (after a background measurement, copied from the worker's sizer).
+ *
+ * @sa vtkPreIntegrationTableSizer vtkPreIntegrationTableRefiner
+ */
+#ifndef vtkPreIntegrationTableSizing_h
+#define vtkPreIntegrationTableSizing_h
+
+#include "hovrRenderingCoreModule.h" // For export macro
+#include "vtkObject.h"
+
+#include <vector> // For the key
+
+class vtkDataArray;
+class vtkImageData;
+class vtkPreIntegrationTableRefiner;
+class vtkPreIntegrationTableSizer;
+class vtkSecondOrderPreIntegrationTable;
+
+class HOVRRENDERINGCORE_EXPORT vtkPreIntegrationTableSizing : public vtkObject
+{
+public:
+  static vtkPreIntegrationTableSizing* New();
+  vtkTypeMacro(vtkPreIntegrationTableSizing, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Draw at once with interim sizes and measure in the background (see the class
+   * description); off measures before the frame. Initial value is false.
+   */
+  vtkSetMacro(RefineInBackground, bool);
+  vtkGetMacro(RefineInBackground, bool);
+  vtkBooleanMacro(RefineInBackground, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The most entries of an interim table (every moment layer counted once). Initial value
+   * is 131072.
+   */
+  vtkSetClampMacro(InterimEntries, double, 1024.0, 1e9);
+  vtkGetMacro(InterimEntries, double);
+  ///@}
+
+  /**
+   * The sizer settings both ways use, and the statistics of the measured sizes in use.
+   */
+  vtkPreIntegrationTableSizer* GetSizer() { return this->Sizer; }
+
+  /**
+   * The worker of background measurements (statistics: requests, completed, stopped).
+   */
+  vtkPreIntegrationTableRefiner* GetRefiner() { return this->Refiner; }
+
+  /**
+   * Give table its sizes for the next frame (see the class description): key holds what they
+   * depend on; volume and scalars are what is drawn, at this order (1 or 2) and sample
+   * distance; the deviation axis gets at most deviationLimit entries; buildEntries tells
+   * whether the table's entries are built on the CPU (false: another builder, such as a GPU
+   * pass, builds them, and a background measurement chooses sizes only). The table must
+   * hold its transfer functions, scalar range, segment length, iterations and moment layers.
+   * Returns false after an error (reported): nothing can be drawn.
+   */
+  bool Update(const std::vector<double>& key,
+    vtkImageData* volume,
+    vtkDataArray* scalars,
+    vtkSecondOrderPreIntegrationTable* table,
+    int order,
+    double sampleDistance,
+    int deviationLimit,
+    bool buildEntries);
+
+  /**
+   * Forget the key: the next Update() sizes the table anew (and stops a background
+   * measurement).
+   */
+  void Reset();
+
+  /**
+   * Whether the table holds interim sizes while a background measurement runs or waits.
+   */
+  bool IsRefining();
+
+  /**
+   * Whether the measured table waits for the next Update() (the frame that draws it).
+   */
+  bool IsRefinementReady();
+
+  /**
+   * Block until the background measurement of the current key is done (nothing to wait for
+   * when sizes are measured at once).
+   */
+  void WaitForRefinement();
+
+  /**
+   * Interim tables drawn so far (frames that answered a change before its measurement).
+   */
+  vtkGetMacro(NumberOfInterimTables, int);
+
+protected:
+  vtkPreIntegrationTableSizing();
+  ~vtkPreIntegrationTableSizing() override;
+
+  // Interim sizes for table (order 1 or 2), at most InterimEntries entries.
+  void SetInterimSizes(vtkSecondOrderPreIntegrationTable* table, int order, int deviationLimit);
+  // Records that table holds measured sizes.
+  void MarkMeasured(vtkSecondOrderPreIntegrationTable* table);
+
+  bool RefineInBackground = false;
+  double InterimEntries = 131072.0;
+  int NumberOfInterimTables = 0;
+  vtkPreIntegrationTableSizer* Sizer;
+  vtkPreIntegrationTableRefiner* Refiner;
+  std::vector<double> Key; // what the table's sizes are for
+  bool Interim = false;    // the sizes for Key are interim (a request runs or waits)
+  vtkIdType Request = 0;   // the background request for Key
+  // The tables whose sizes were measured once (the interim sizes keep them).
+  std::vector<const void*> MeasuredTables;
+
+private:
+  vtkPreIntegrationTableSizing(const vtkPreIntegrationTableSizing&) = delete;
+  void operator=(const vtkPreIntegrationTableSizing&) = delete;
+};
+
+#endif

@@ -1,0 +1,212 @@
+"""Answer first, refine after: vtkPreIntegrationVolumeMapper with RefineInBackground.
+
+On the Marschner-Lobb volume (64^3, generated here) with a spike transfer function, 96 x 96,
+for both orders:
+- a drag of 20 opacity edits, rendered one after the other while the worker is held
+  (vtkPreIntegrationTableRefiner::SetPaused): no frame can wait for a measurement, since none
+  runs; every frame is drawn (with interim sizes: the table's last measured ones), the mapper
+  says it is refining, the 20 superseded requests are counted as stopped and none completed;
+- released, the worker measures the last edit only; CheckRefinement() fires
+  TablesRefinedEvent once, and the next frame draws the refined table: the same sizes as a
+  mapper that measures at once (RefineInBackground off) for the final transfer function, and
+  the same image (float capture, within 1e-6: the same table and ray walk);
+- with the worker running, a second drag of 20 edits ends on the refined image of its last
+  edit too (after WaitForRefinement());
+- a change of sample distance and of data (a new volume) are answered the same way: an interim
+  frame, then the refined one equal to the measured-at-once image;
+- the interim tables stay within InterimEntries entries.
+"""
+
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
+                                         vtkVolume, vtkVolumeProperty)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+
+import hovr
+from hovrtesting import Checker
+
+c = Checker()
+SIZE = 96
+
+
+def volume(n):
+    source = hovr.vtkMarschnerLobbSource()
+    source.SetDimensions(n, n, n)
+    source.Update()
+    image = vtkImageData()
+    image.DeepCopy(source.GetOutput())
+    return image
+
+
+def make_property(low, high):
+    opacity = vtkPiecewiseFunction()
+    color = vtkColorTransferFunction()
+    span = high - low
+    for x, a in ((0.0, 0.0), (0.28, 0.0), (0.3, 0.6), (0.32, 0.0), (0.68, 0.0), (0.7, 0.9),
+                 (0.72, 0.0), (1.0, 0.0)):
+        opacity.AddPoint(low + x * span, a)
+    color.AddRGBPoint(low, 0.1, 0.3, 1.0)
+    color.AddRGBPoint(high, 1.0, 0.6, 0.1)
+    prop = vtkVolumeProperty()
+    prop.SetScalarOpacity(opacity)
+    prop.SetColor(color)
+    prop.SetInterpolationTypeToLinear()
+    prop.SetScalarOpacityUnitDistance(0.05)
+    return prop
+
+
+def edit(prop, low, high, k):
+    """Opacity edit k of a drag: the second spike's peak moves up."""
+    prop.GetScalarOpacity().AddPoint(low + 0.7 * (high - low), 0.3 + 0.03 * k)
+
+
+class View:
+    """One window with one volume and a float capture."""
+
+    def __init__(self, mapper, image, prop):
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetMultiSamples(0)
+        self.window.SetAlphaBitPlanes(1)
+        self.window.SetSize(SIZE, SIZE)
+        self.renderer = vtkRenderer()
+        self.renderer.SetBackgroundAlpha(0.0)
+        self.window.AddRenderer(self.renderer)
+        self.volume = vtkVolume()
+        self.volume.SetMapper(mapper)
+        self.volume.SetProperty(prop)
+        self.renderer.AddVolume(self.volume)
+        mapper.SetInputData(image)
+        self.mapper = mapper
+        self.renderer.ResetCamera()
+        self.renderer.GetActiveCamera().Azimuth(30)
+        self.renderer.GetActiveCamera().Elevation(20)
+        self.renderer.ResetCameraClippingRange()
+        self.capture = hovr.vtkFloatRGBARenderCapture()
+        self.window.Render()
+        self.capture.Attach(self.window)
+
+    def image(self):
+        self.window.Render()
+        out = vtkImageData()
+        self.capture.Capture(out)
+        return vtk_to_numpy(out.GetPointData().GetScalars()).copy()
+
+    def close(self):
+        self.window.Finalize()
+
+
+def sizes(mapper):
+    table = mapper.GetActiveTable()
+    return (table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize())
+
+
+def measured_at_once(order, image, prop, step):
+    """The image and sizes of a mapper that measures before the frame."""
+    mapper = hovr.vtkPreIntegrationVolumeMapper()
+    mapper.SetIntegration(order)
+    mapper.SetSampleDistance(step)
+    view = View(mapper, image, prop)
+    pixels = view.image()
+    result = (pixels, sizes(mapper))
+    view.close()
+    return result
+
+
+image = volume(64)
+low, high = image.GetScalarRange()
+step = image.GetSpacing()[0]
+for order in (1, 2):
+    name = "order %d" % order
+    prop = make_property(low, high)
+    mapper = hovr.vtkPreIntegrationVolumeMapper()
+    mapper.SetIntegration(order)
+    mapper.SetSampleDistance(step)
+    mapper.SetRefineInBackground(True)
+    refined_events = []
+    mapper.AddObserver(mapper.TablesRefinedEvent, lambda *args: refined_events.append(1))
+    sizing = mapper.GetTableSizing()
+    refiner = sizing.GetRefiner()
+    view = View(mapper, image, prop)
+    c.check(mapper.GetRefining(), "%s: the first frame is drawn with interim sizes" % name)
+    mapper.WaitForRefinement()
+    c.check(mapper.CheckRefinement() and len(refined_events) == 1,
+            "%s: TablesRefinedEvent once the first measurement is done" % name)
+    view.image()
+    c.check(not mapper.GetRefining(), "%s: the next frame draws the measured table" % name)
+
+    # The drag, the worker held: every frame must be drawn without a measurement.
+    refiner.SetPaused(True)
+    before = (refiner.GetNumberOfRequests(), refiner.GetNumberOfCompleted(),
+              refiner.GetNumberOfStopped(), sizing.GetNumberOfInterimTables())
+    measured = sizes(mapper)
+    drawn = 0
+    largest = 0
+    for k in range(20):
+        edit(prop, low, high, k)
+        pixels = view.image()
+        drawn += int(mapper.GetRefining() and pixels[:, 3].max() > 0)
+        table = mapper.GetActiveTable()
+        largest = max(largest, table.GetNumberOfEntries())
+    c.check(drawn == 20, "%s: 20 edits drawn with interim tables while the worker is held "
+            "(%d)" % (name, drawn))
+    c.check(largest <= sizing.GetInterimEntries(), "%s: interim tables within %d entries (%d)"
+            % (name, sizing.GetInterimEntries(), largest))
+    c.check(sizing.GetNumberOfInterimTables() - before[3] == 20,
+            "%s: 20 interim tables" % name)
+    c.check(refiner.GetNumberOfRequests() - before[0] == 20 and
+            refiner.GetNumberOfCompleted() == before[1] and
+            refiner.GetNumberOfStopped() - before[2] == 19,
+            "%s: 20 requests, none measured, the 19 superseded ones stopped (%d, %d, %d)" % (
+                name, refiner.GetNumberOfRequests() - before[0],
+                refiner.GetNumberOfCompleted() - before[1],
+                refiner.GetNumberOfStopped() - before[2]))
+    c.check(not mapper.CheckRefinement(), "%s: no refined table while held" % name)
+    refiner.SetPaused(False)
+    mapper.WaitForRefinement()
+    c.check(mapper.CheckRefinement() and len(refined_events) == 2,
+            "%s: TablesRefinedEvent once the last edit is measured" % name)
+    c.check(refiner.GetNumberOfCompleted() - before[1] == 1,
+            "%s: only the last edit measured" % name)
+    refined = view.image()
+    reference, reference_sizes = measured_at_once(order, image, prop, step)
+    difference = float(numpy.abs(refined - reference).max())
+    print("%s: interim sizes %s, refined %s, measured at once %s; largest difference %.2e; "
+          "refinement took %.3f s" % (name, measured, sizes(mapper), reference_sizes, difference,
+                                      refiner.GetLastRefinementTime()))
+    c.check(sizes(mapper) == reference_sizes, "%s: the refined sizes %s are the measured ones "
+            "%s" % (name, sizes(mapper), reference_sizes))
+    c.check(difference <= 1e-6, "%s: the refined image is the measured-at-once image (%.2e)"
+            % (name, difference))
+
+    # A drag with the worker running: the image after it is the refined one of its last edit.
+    for k in range(20, 40):
+        edit(prop, low, high, k)
+        view.image()
+    mapper.WaitForRefinement()
+    refined = view.image()
+    reference, reference_sizes = measured_at_once(order, image, prop, step)
+    c.check(not mapper.GetRefining() and sizes(mapper) == reference_sizes and
+            float(numpy.abs(refined - reference).max()) <= 1e-6,
+            "%s: after a drag with the worker running, the refined image of the last edit" % name)
+
+    # A new sample distance, then a new volume (a time step).
+    for what, change in (("sample distance", lambda: mapper.SetSampleDistance(0.5 * step)),
+                         ("data", lambda: mapper.SetInputData(volume(48)))):
+        change()
+        view.image()
+        interim = mapper.GetRefining()
+        mapper.WaitForRefinement()
+        refined = view.image()
+        reference, reference_sizes = measured_at_once(order, mapper.GetInput(), prop,
+                                                      mapper.GetSampleDistance())
+        c.check(interim and sizes(mapper) == reference_sizes and
+                float(numpy.abs(refined - reference).max()) <= 1e-6,
+                "%s, new %s: an interim frame, then the measured-at-once image" % (name, what))
+    mapper.SetInputData(image)
+    mapper.SetSampleDistance(step)
+    view.close()
+c.finish()
