@@ -104,7 +104,7 @@ CSV_FIELDS = ["dataset", "method", "step", "width", "height", "median_ms", "min_
               "measured_pixels"]
 
 # Part of the reference cache key: bump when the reference's output changes.
-REFERENCE_VERSION = 3
+REFERENCE_VERSION = 4
 
 def _project_root():
     root = os.environ.get("HOVR_ROOT")
@@ -317,9 +317,14 @@ def _scene_for(spec, base, size):
 
 
 def run(config_path, output, log=print, renderer=None):
-    """Run a bench; returns the list of result rows."""
+    """Run a bench; returns the list of result rows. A configuration of ``"kind": "latency"``
+    runs hovr.latency instead."""
     config = load_config(config_path)
     base = os.path.dirname(os.path.abspath(config_path))
+    if config.get("kind") == "latency":
+        from . import latency
+        os.makedirs(os.path.join(output, "cache"), exist_ok=True)
+        return latency.run(config, base, output, log)
     size = tuple(config.get("size", (512, 512)))
     repeat = int(config.get("repeat", 5))
     os.makedirs(os.path.join(output, "images"), exist_ok=True)
