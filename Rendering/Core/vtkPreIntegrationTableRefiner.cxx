@@ -1,26 +1,24 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationTableRefiner.h"
 
+#include "vtkBackgroundWorker.h"
 #include "vtkCallbackCommand.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
-#include "vtkLowPriorityThreads.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPreIntegrationTableSizer.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkSmartPointer.h"
-#include "vtkTimerLog.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
-#include <condition_variable>
+#include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
-#include <system_error>
-#include <thread>
 
 vtkStandardNewMacro(vtkPreIntegrationTableRefiner);
 
@@ -77,46 +75,37 @@ struct Job
   int DeviationLimit = 1;
   bool BuildEntries = true;
   bool LowPriority = true;
+  const std::atomic<bool>* Stopped = nullptr; // the worker's stop flag, while it runs
   vtkNew<vtkPreIntegrationTableSizer> Settings;
 };
 }
 
 struct vtkPreIntegrationTableRefiner::vtkInternals
 {
-  std::mutex Mutex;
-  std::condition_variable Changed;
-  std::thread Worker;
-  bool Quit = false;
-  bool Working = false;         // the worker holds a job
-  bool Paused = false;          // requests wait without starting
-  std::unique_ptr<Job> Pending; // the newest request, not yet started
-  vtkIdType Newest = 0;         // the newest request's number
-  vtkIdType Counter = 0;
-  vtkIdType Completed = 0;
-  vtkIdType Stopped = 0;
+  vtkBackgroundWorker Worker;
+  std::mutex Mutex; // guards what follows, up to the worker-thread state
   // The newest request's outcome: its number, its table (null when it failed).
   vtkIdType ResultId = 0;
   bool ResultFailed = false;
   vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Result;
-  double LastTime = 0.0;
   Snapshot<vtkColorTransferFunction> Color;
   Snapshot<vtkPiecewiseFunction> Gray;
   Snapshot<vtkPiecewiseFunction> Opacity;
+  // The table being built, so that a newer request can stop its build.
+  vtkSecondOrderPreIntegrationTable* Building = nullptr;
+  // The worker's error messages are kept, not printed from its thread: the last one of the
+  // running job, and the one of the newest failed request.
+  std::string JobError;
+  std::string ResultError;
+  // Statistics of the last completed request, copied out of the worker.
+  vtkNew<vtkPreIntegrationTableSizer> Statistics;
 
   // Worker-thread state: the sizer (its rays, pieces and reference kept across requests) and
   // the table it measures with (its sampler kept while the transfer functions are, so that
   // the sizer keeps the reference).
   vtkNew<vtkPreIntegrationTableSizer> Sizer;
   vtkNew<vtkSecondOrderPreIntegrationTable> Measured;
-  // Statistics of the last completed request, copied out of the worker under the mutex.
-  vtkNew<vtkPreIntegrationTableSizer> Statistics;
-  // The table being built, so that a newer request can stop its build.
-  vtkSecondOrderPreIntegrationTable* Building = nullptr;
-  // The worker's error messages are kept, not printed from its thread: the last one of the
-  // running job, and the one of the newest failed request.
   vtkNew<vtkCallbackCommand> ErrorCatcher;
-  std::string JobError;
-  std::string ResultError;
 
   static void CatchError(vtkObject*, unsigned long, void* clientData, void* callData)
   {
@@ -133,50 +122,31 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     this->Measured->AddObserver(vtkCommand::ErrorEvent, this->ErrorCatcher);
   }
 
-  void Run()
+  // What a request runs in the worker: the sizes and the build, the result kept unless a newer
+  // request stopped it.
+  bool Run(const Job& job, const std::atomic<bool>& stop)
   {
-    for (;;)
     {
-      std::unique_ptr<Job> job;
-      {
-        std::unique_lock<std::mutex> lock(this->Mutex);
-        this->Changed.wait(lock, [this] { return this->Quit || (this->Pending && !this->Paused); });
-        if (this->Quit)
-        {
-          return;
-        }
-        job = std::move(this->Pending);
-        this->Working = true;
-        this->JobError.clear();
-        // Cleared under the lock: a request made after this point stops this job.
-        this->Sizer->ClearAbort();
-      }
-      const double start = vtkTimerLog::GetUniversalTime();
-      bool stopped = false;
-      vtkSmartPointer<vtkSecondOrderPreIntegrationTable> built = this->Work(*job, stopped);
-      const double elapsed = vtkTimerLog::GetUniversalTime() - start;
       std::lock_guard<std::mutex> lock(this->Mutex);
-      this->Working = false;
-      this->Building = nullptr;
-      if (job->Id == this->Newest && !stopped)
-      {
-        this->ResultId = job->Id;
-        this->ResultFailed = !built;
-        this->ResultError = built ? std::string() : this->JobError;
-        this->Result = built;
-        if (built)
-        {
-          ++this->Completed;
-          this->LastTime = elapsed;
-          this->Statistics->CopyStatistics(this->Sizer);
-        }
-      }
-      else
-      {
-        ++this->Stopped;
-      }
-      this->Changed.notify_all();
+      this->JobError.clear();
     }
+    bool stopped = false;
+    vtkSmartPointer<vtkSecondOrderPreIntegrationTable> built = this->Work(job, stopped);
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->Building = nullptr;
+    if (stopped || stop)
+    {
+      return false;
+    }
+    this->ResultId = job.Id;
+    this->ResultFailed = !built;
+    this->ResultError = built ? std::string() : this->JobError;
+    this->Result = built;
+    if (built)
+    {
+      this->Statistics->CopyStatistics(this->Sizer);
+    }
+    return built != nullptr;
   }
 
   // Chooses the sizes and builds the table of a job; null on failure, or when stopped (then
@@ -196,10 +166,6 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     measured->SetPrefilter(job.Prefilter);
     measured->SetMoments(job.Moments);
     measured->SetSlabMoments(job.SlabMoments);
-    if (job.LowPriority)
-    {
-      vtkLowPriorityThreads::LowerPriority();
-    }
     this->Sizer->SetLowPriority(job.LowPriority);
     this->Sizer->CopySettings(job.Settings);
     if (!this->Sizer->Choose(job.Volume, job.Scalars, measured, job.Order, job.SampleDistance))
@@ -229,7 +195,7 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     {
       {
         std::lock_guard<std::mutex> lock(this->Mutex);
-        if (job.Id != this->Newest)
+        if (job.Stopped && *job.Stopped)
         {
           stopped = true; // superseded while measuring
           return nullptr;
@@ -256,22 +222,9 @@ vtkPreIntegrationTableRefiner::vtkPreIntegrationTableRefiner()
 //------------------------------------------------------------------------------
 vtkPreIntegrationTableRefiner::~vtkPreIntegrationTableRefiner()
 {
-  vtkInternals& I = *this->Internals;
-  {
-    std::lock_guard<std::mutex> lock(I.Mutex);
-    I.Quit = true;
-    I.Pending.reset();
-    I.Sizer->Abort();
-    if (I.Building)
-    {
-      I.Building->SetAbortBuild(true);
-    }
-  }
-  I.Changed.notify_all();
-  if (I.Worker.joinable())
-  {
-    I.Worker.join();
-  }
+  // The worker stops and joins first (its member is destroyed last of the internals' users).
+  this->Internals->Worker.Cancel();
+  this->Internals->Worker.Wait();
   this->SizerSettings->Delete();
 }
 
@@ -290,13 +243,18 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
     return 0;
   }
   vtkInternals& I = *this->Internals;
-  auto job = std::make_unique<Job>();
+  auto job = std::make_shared<Job>();
   vtkVolumeTransferFunctionSampler* sampler = table->GetSampler();
   job->Volume = volume;
   job->Scalars = scalars;
-  job->Color = I.Color.Of(sampler->GetColor());
-  job->Gray = I.Gray.Of(sampler->GetGrayColor());
-  job->Opacity = I.Opacity.Of(sampler->GetScalarOpacity());
+  {
+    std::lock_guard<std::mutex> lock(I.Mutex);
+    job->Color = I.Color.Of(sampler->GetColor());
+    job->Gray = I.Gray.Of(sampler->GetGrayColor());
+    job->Opacity = I.Opacity.Of(sampler->GetScalarOpacity());
+    I.Result = nullptr;
+    I.ResultId = 0;
+  }
   job->UnitDistance = sampler->GetScalarOpacityUnitDistance();
   job->MaximumOpacity = sampler->GetMaximumOpacity();
   table->GetScalarRange(job->Range);
@@ -312,64 +270,52 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
   job->LowPriority = this->LowPriority;
   job->Settings->CopySettings(this->SizerSettings);
 
-  std::lock_guard<std::mutex> lock(I.Mutex);
-  if (!I.Worker.joinable())
-  {
-    try
+  const vtkIdType request = I.Worker.Submit(
+    [&I, job](vtkIdType id, const std::atomic<bool>& stop)
     {
-      I.Worker = std::thread([&I] { I.Run(); });
-    }
-    catch (const std::system_error& e)
+      job->Id = id;
+      job->Stopped = &stop;
+      I.Sizer->ClearAbort();
+      if (stop)
+      {
+        I.Sizer->Abort(); // stopped before the abort was cleared
+      }
+      return I.Run(*job, stop);
+    },
+    [&I]()
     {
-      vtkErrorMacro("The refinement thread could not start: " << e.what());
-      return 0;
-    }
-  }
-  job->Id = ++I.Counter;
-  I.Newest = job->Id;
-  if (I.Pending)
+      // Stops the running job at its next check (the worker's lock is held).
+      I.Sizer->Abort();
+      std::lock_guard<std::mutex> lock(I.Mutex);
+      if (I.Building)
+      {
+        I.Building->SetAbortBuild(true);
+      }
+    });
+  if (request <= 0)
   {
-    ++I.Stopped; // replaced before it started
+    vtkErrorMacro("The refinement thread could not start.");
   }
-  I.Pending = std::move(job);
-  I.Result = nullptr;
-  I.ResultId = 0;
-  // The running job, if any, stops at its next check.
-  I.Sizer->Abort();
-  if (I.Building)
-  {
-    I.Building->SetAbortBuild(true);
-  }
-  I.Changed.notify_all();
-  return I.Newest;
+  return request;
 }
 
 //------------------------------------------------------------------------------
 void vtkPreIntegrationTableRefiner::Cancel()
 {
   vtkInternals& I = *this->Internals;
+  I.Worker.Cancel();
   std::lock_guard<std::mutex> lock(I.Mutex);
-  if (I.Pending)
-  {
-    ++I.Stopped;
-    I.Pending.reset();
-  }
-  I.Newest = 0;
   I.Result = nullptr;
   I.ResultId = 0;
-  I.Sizer->Abort();
-  if (I.Building)
-  {
-    I.Building->SetAbortBuild(true);
-  }
 }
 
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationTableRefiner::IsBusy()
 {
   vtkInternals& I = *this->Internals;
-  std::lock_guard<std::mutex> lock(I.Mutex);
-  return I.Working || I.Pending;
+  const vtkIdType newest = I.Worker.GetNumberOfJobs();
+  const int state = I.Worker.GetState(newest);
+  return state == vtkBackgroundWorker::WAITING || state == vtkBackgroundWorker::RUNNING;
 }
 
 //------------------------------------------------------------------------------
@@ -420,32 +366,23 @@ bool vtkPreIntegrationTableRefiner::TakeResult(vtkIdType request,
 //------------------------------------------------------------------------------
 void vtkPreIntegrationTableRefiner::Wait()
 {
-  vtkInternals& I = *this->Internals;
-  std::unique_lock<std::mutex> lock(I.Mutex);
-  I.Changed.wait(lock, [&I] { return !I.Working && (!I.Pending || I.Paused); });
+  this->Internals->Worker.Wait();
 }
 
 //------------------------------------------------------------------------------
 void vtkPreIntegrationTableRefiner::SetPaused(bool paused)
 {
-  vtkInternals& I = *this->Internals;
+  if (paused != this->Internals->Worker.GetPaused())
   {
-    std::lock_guard<std::mutex> lock(I.Mutex);
-    if (I.Paused == paused)
-    {
-      return;
-    }
-    I.Paused = paused;
+    this->Internals->Worker.SetPaused(paused);
+    this->Modified();
   }
-  I.Changed.notify_all();
-  this->Modified();
 }
 
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationTableRefiner::GetPaused()
 {
-  std::lock_guard<std::mutex> lock(this->Internals->Mutex);
-  return this->Internals->Paused;
+  return this->Internals->Worker.GetPaused();
 }
 
 //------------------------------------------------------------------------------
@@ -459,29 +396,25 @@ std::string vtkPreIntegrationTableRefiner::GetFailure(vtkIdType request)
 //------------------------------------------------------------------------------
 vtkIdType vtkPreIntegrationTableRefiner::GetNumberOfRequests()
 {
-  std::lock_guard<std::mutex> lock(this->Internals->Mutex);
-  return this->Internals->Counter;
+  return this->Internals->Worker.GetNumberOfJobs();
 }
 
 //------------------------------------------------------------------------------
 vtkIdType vtkPreIntegrationTableRefiner::GetNumberOfCompleted()
 {
-  std::lock_guard<std::mutex> lock(this->Internals->Mutex);
-  return this->Internals->Completed;
+  return this->Internals->Worker.GetNumberOfCompleted();
 }
 
 //------------------------------------------------------------------------------
 vtkIdType vtkPreIntegrationTableRefiner::GetNumberOfStopped()
 {
-  std::lock_guard<std::mutex> lock(this->Internals->Mutex);
-  return this->Internals->Stopped;
+  return this->Internals->Worker.GetNumberOfStopped();
 }
 
 //------------------------------------------------------------------------------
 double vtkPreIntegrationTableRefiner::GetLastRefinementTime()
 {
-  std::lock_guard<std::mutex> lock(this->Internals->Mutex);
-  return this->Internals->LastTime;
+  return this->Internals->Worker.GetLastJobTime();
 }
 
 //------------------------------------------------------------------------------
