@@ -110,6 +110,7 @@ bool vtkPreIntegrationTable::Update()
     if (this->BuildAborted)
     {
       this->Table->Initialize();
+      this->TableReleased();
       vtkErrorMacro("The build of the pre-integration table was aborted (AbortBuild).");
       return false;
     }
@@ -118,6 +119,7 @@ bool vtkPreIntegrationTable::Update()
   catch (const std::bad_alloc&)
   {
     this->Table->Initialize();
+    this->TableReleased();
     vtkErrorMacro("Not enough memory for the pre-integration table of "
       << entries << " entries ("
       << static_cast<vtkIdType>(

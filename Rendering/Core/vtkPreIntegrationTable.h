@@ -194,6 +194,10 @@ protected:
    */
   virtual void BuildTable() = 0;
 
+  // Called when Update() empties the table (an aborted build, no memory): a subclass that
+  // keeps what the entries were built from forgets it.
+  virtual void TableReleased() {}
+
   // Fills EmptyRuns from the prepared sampler.
   void BuildEmptyRuns();
 

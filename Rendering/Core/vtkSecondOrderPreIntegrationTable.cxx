@@ -8,6 +8,7 @@
 #include "vtkVolumeTransferFunctionSampler.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -17,8 +18,10 @@ vtkStandardNewMacro(vtkSecondOrderPreIntegrationTable);
 vtkSecondOrderPreIntegrationTable::vtkSecondOrderPreIntegrationTable()
   : IterationTable(vtkFloatArray::New())
   , IterationEmptyRuns(vtkFloatArray::New())
+  , BuiltIterationTable(vtkFloatArray::New())
 {
   this->IterationTable->SetNumberOfComponents(4);
+  this->BuiltIterationTable->SetNumberOfComponents(4);
   this->SegmentLength = 2.0;
 }
 
@@ -27,6 +30,7 @@ vtkSecondOrderPreIntegrationTable::~vtkSecondOrderPreIntegrationTable()
 {
   this->IterationTable->Delete();
   this->IterationEmptyRuns->Delete();
+  this->BuiltIterationTable->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -47,6 +51,13 @@ bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built
   std::swap(this->IterationEmptyRuns, other->IterationEmptyRuns);
   this->IterationSamples = other->IterationSamples;
   this->IterationSamplesPerSpacing = other->IterationSamplesPerSpacing;
+  // The entries taken are this kernel's: the next edit rebuilds only what it reaches.
+  this->BuiltIterationTable->DeepCopy(this->IterationTable);
+  this->BuiltKernel = this->GetKernel();
+  this->BuiltLayers = this->GetNumberOfLayers();
+  this->BuiltEntries = this->GetNumberOfEntries();
+  this->BuiltValid = this->ComputeEntries;
+  other->BuiltValid = false;
   return true;
 }
 
@@ -218,11 +229,41 @@ vtkSecondOrderPreIntegrationTableKernel vtkSecondOrderPreIntegrationTable::GetKe
 void vtkSecondOrderPreIntegrationTable::BuildTable()
 {
   this->BuildIterationTable();
+  const bool wasValid = this->BuiltValid;
+  this->BuiltValid = false;
+  this->LastBuildEntries = 0;
   if (!this->ComputeEntries)
   {
     return; // another builder (the GPU) integrates from the iteration table
   }
   const vtkSecondOrderPreIntegrationTableKernel kernel = this->GetKernel();
+  // After an edit of the transfer functions alone (the same kernel, layers and entries, the
+  // table still holding the last build), only the entries that read a changed sample are
+  // integrated: [changedFirst, changedLast] are the samples that differ.
+  int changedFirst = 0, changedLast = this->IterationSamples - 1;
+  const vtkIdType entries = this->GetNumberOfEntries();
+  const bool incremental = wasValid && kernel.SameAs(this->BuiltKernel) &&
+    this->GetNumberOfLayers() == this->BuiltLayers && entries == this->BuiltEntries &&
+    this->BuiltIterationTable->GetNumberOfTuples() == this->IterationSamples;
+  if (incremental)
+  {
+    const float* before = this->BuiltIterationTable->GetPointer(0);
+    const float* after = this->IterationTable->GetPointer(0);
+    changedFirst = this->IterationSamples;
+    changedLast = -1;
+    for (int q = 0; q < this->IterationSamples; ++q)
+    {
+      if (!std::equal(before + 4 * q, before + 4 * q + 4, after + 4 * q))
+      {
+        changedFirst = std::min(changedFirst, q);
+        changedLast = q;
+      }
+    }
+  }
+  this->BuiltIterationTable->DeepCopy(this->IterationTable);
+  this->BuiltKernel = kernel;
+  this->BuiltLayers = this->GetNumberOfLayers();
+  this->BuiltEntries = entries;
   const float* samples = this->IterationTable->GetPointer(0);
   const float* runs = this->IterationEmptyRuns->GetPointer(0);
   float* table = this->Table->GetPointer(0);
@@ -235,16 +276,28 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   const size_t stride = 4 * static_cast<size_t>(nc) * nb * nd;
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
-  this->ForInParts(static_cast<vtkIdType>(nd) * nc,
+  std::atomic<vtkIdType> integrated{ 0 };
+  const bool complete = this->ForInParts(static_cast<vtkIdType>(nd) * nc,
     [&](vtkIdType begin, vtkIdType end)
     {
       std::vector<float> steps;
+      vtkIdType count = 0;
       for (vtkIdType row = begin; row < end; ++row)
       {
         const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
         for (int j = 0; j <= (nb - 1) / 2; ++j)
         {
+          if (incremental)
+          {
+            int first, last;
+            kernel.SampleRange(i, j, k, first, last);
+            if (last < changedFirst || first > changedLast)
+            {
+              continue; // reads no changed sample: its value stands
+            }
+          }
           const int mirror = nb - 1 - j;
+          count += mirror != j ? 2 : 1;
           float* forward = table + 4 * (i + static_cast<vtkIdType>(nc) * (j + nb * k));
           float* backward = mirror != j
             ? table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k))
@@ -260,7 +313,10 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
           }
         }
       }
+      integrated += count;
     });
+  this->LastBuildEntries = integrated * this->GetNumberOfLayers();
+  this->BuiltValid = complete;
 }
 
 //------------------------------------------------------------------------------

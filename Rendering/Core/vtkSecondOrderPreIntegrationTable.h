@@ -211,6 +211,13 @@ public:
    */
   void BuildIterationTable();
 
+  /**
+   * Entries integrated by the last build: all of them, or after an edit of the transfer
+   * functions that left everything else alone, only those whose paths read the scalars whose
+   * transfer-function samples changed (the others keep their values, bit for bit).
+   */
+  vtkGetMacro(LastBuildEntries, vtkIdType);
+
 #ifndef __VTK_WRAP__
   /**
    * The integration of single entries, for the current settings and iteration table (after
@@ -224,6 +231,11 @@ protected:
   ~vtkSecondOrderPreIntegrationTable() override;
 
   void BuildTable() override;
+
+  void TableReleased() override
+  {
+    this->BuiltValid = false;
+  }
 
   // The prefilter spreads opacity by half a centre spacing.
   double GetEmptyRunMargin() const override;
@@ -240,6 +252,16 @@ protected:
   int IterationSamplesPerSpacing = 2;
   vtkFloatArray* IterationTable;
   vtkFloatArray* IterationEmptyRuns;
+  // What the entries in the table were last built from, so that a rebuild after an edit of the
+  // transfer functions integrates only the entries whose paths read samples that changed:
+  // the iteration table, the kernel, the layers and the number of entries, and whether the
+  // table still holds that build's entries.
+  vtkFloatArray* BuiltIterationTable;
+  vtkSecondOrderPreIntegrationTableKernel BuiltKernel;
+  int BuiltLayers = -1;
+  vtkIdType BuiltEntries = -1;
+  bool BuiltValid = false;
+  vtkIdType LastBuildEntries = 0;
 
 private:
   vtkSecondOrderPreIntegrationTable(const vtkSecondOrderPreIntegrationTable&) = delete;

@@ -89,6 +89,36 @@ struct vtkSecondOrderPreIntegrationTableKernel
     return runs[qlo] >= 0.0f && runs[qlo] == runs[qhi];
   }
 
+  // The iteration-table samples [first, last] that entry (i, j, k) reads: its path's range
+  // (ends and extremum, clamped), and the next sample up for the interpolation.
+  void SampleRange(int i, int j, int k, int& first, int& last) const
+  {
+    float x0, b, a;
+    this->Path(i, j, k, x0, b, a);
+    const float top = static_cast<float>(this->Samples - 1);
+    const float x1 = x0 + b + a;
+    float lo = std::min(x0, x1), hi = std::max(x0, x1), extremum;
+    if (SlabExtremum(x0, b, a, extremum))
+    {
+      lo = std::min(lo, extremum);
+      hi = std::max(hi, extremum);
+    }
+    lo = std::min(std::max(lo, 0.0f), top);
+    hi = std::min(std::max(hi, 0.0f), top);
+    first = std::min(static_cast<int>(lo), this->Samples - 2);
+    last = std::min(static_cast<int>(hi) + 1, this->Samples - 1);
+  }
+
+  // Whether two kernels integrate every entry alike (the same axes, steps and length).
+  bool SameAs(const vtkSecondOrderPreIntegrationTableKernel& other) const
+  {
+    return this->SamplesPerSpacing == other.SamplesPerSpacing && this->Samples == other.Samples &&
+      this->ChordSize == other.ChordSize && this->DeviationSize == other.DeviationSize &&
+      this->ChordHalfStep == other.ChordHalfStep &&
+      this->DeviationHalfStep == other.DeviationHalfStep &&
+      this->MaximumSteps == other.MaximumSteps && this->Length == other.Length;
+  }
+
   // The steps of entry (i, j, k)'s path into steps: per step (c alpha, alpha), alpha =
   // 1 - exp(-tau h). Returns their number (at least minimumSteps, even if asked), 0 for a
   // path inside one zero-opacity run.
