@@ -319,6 +319,18 @@ bool vtkPreIntegrationTableRefiner::IsBusy()
 }
 
 //------------------------------------------------------------------------------
+double vtkPreIntegrationTableRefiner::GetProgress()
+{
+  if (!this->IsBusy())
+  {
+    return 1.0;
+  }
+  vtkInternals& I = *this->Internals;
+  std::lock_guard<std::mutex> lock(I.Mutex);
+  return I.Building ? 0.9 : 0.9 * I.Sizer->GetProgress();
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationTableRefiner::IsReady(vtkIdType request)
 {
   vtkInternals& I = *this->Internals;

@@ -145,6 +145,12 @@ public:
   ///@}
 
   /**
+   * How far the request being worked on is, in [0, 1]: the sizer's progress
+   * (vtkPreIntegrationTableSizer::GetProgress) for nine tenths, then the build; 1 when idle.
+   */
+  double GetProgress();
+
+  /**
    * Wall time in seconds of the last completed request, from its start in the worker to its
    * result (the sizer and the build).
    */

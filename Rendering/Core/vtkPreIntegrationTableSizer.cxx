@@ -1,6 +1,7 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkPreIntegrationTableSizer.h"
 
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -203,6 +204,7 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
   std::atomic<bool> AbortRequested{ false };
+  std::atomic<double> Progress{ 1.0 };
   bool LowPriority = false; // loops in threads of low priority
 
   // body(begin, end) over [0, n): with vtkSMPTools, or in threads of low priority in chunks
@@ -338,6 +340,19 @@ bool vtkPreIntegrationTableSizer::GetLowPriority()
 }
 
 //------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::ReportProgress(double progress)
+{
+  this->Internals->Progress = progress;
+  this->InvokeEvent(vtkCommand::ProgressEvent, &progress);
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationTableSizer::GetProgress() const
+{
+  return this->Internals->Progress;
+}
+
+//------------------------------------------------------------------------------
 void vtkPreIntegrationTableSizer::Abort()
 {
   this->Internals->AbortRequested = true;
@@ -404,6 +419,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   I.Table = nullptr;
   I.Aborted = false;
   this->ChosenCandidate = -1;
+  this->ReportProgress(0.0);
   if (I.AbortRequested)
   {
     return this->Stop();
@@ -580,6 +596,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     return this->Stop();
   }
   I.ReferenceKey = key;
+  this->ReportProgress(0.25);
 
   // The pieces of the rays, and the largest chord and deviation they meet.
   if (!reusePieces)
@@ -633,6 +650,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     }
   }
   I.PieceKey = pieceKey;
+  this->ReportProgress(0.35);
   this->MeasuredChordRange = I.MeasuredChordRange;
   this->MeasuredDeviationRange = I.MeasuredDeviationRange;
 
@@ -655,6 +673,7 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     }
   }
   I.Table = table;
+  this->ReportProgress(0.45);
   return true;
 }
 
@@ -968,6 +987,8 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       }
     }
     ++this->NumberOfLevels;
+    // The levels ahead are not known: each measured one goes half the rest of the way.
+    this->ReportProgress(1.0 - 0.55 * std::pow(0.5, this->NumberOfLevels));
     if (last)
     {
       break; // the centre axis is as large as it can be
@@ -1048,6 +1069,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     table->SetPrefilter(chosen.Prefilter);
   }
   this->LastChooseTime = vtkTimerLog::GetUniversalTime() - start;
+  this->ReportProgress(1.0);
   return true;
 }
 

@@ -239,6 +239,14 @@ public:
    */
   void CopyStatistics(vtkPreIntegrationTableSizer* other);
 
+  /**
+   * How far the running (or last) Prepare() and Choose() are, in [0, 1]: 0.25 once the
+   * reference is integrated, 0.35 with the pieces, 0.45 with the exact model, then half the
+   * rest with each centre size measured, 1 when the sizes are chosen. ProgressEvent carries
+   * the same value (a double) at each of those points. Thread-safe.
+   */
+  double GetProgress() const;
+
   ///@{
   /**
    * Stop a Choose() or Prepare() that runs in another thread at its next check (between
@@ -308,6 +316,8 @@ protected:
 private:
   // Ends a Prepare() or Choose() on Abort(): forgets the candidates, returns false.
   bool Stop();
+  // Sets GetProgress() and fires ProgressEvent.
+  void ReportProgress(double progress);
   // Measure() with an explicit prefilter.
   double MeasureCandidate(int tableSize,
     int chordSize,

@@ -33,6 +33,7 @@
 #include <vector> // For the key
 
 class vtkDataArray;
+class vtkDoubleArray;
 class vtkImageData;
 class vtkPreIntegrationTableRefiner;
 class vtkPreIntegrationTableSizer;
@@ -76,14 +77,16 @@ public:
 
   /**
    * Give table its sizes for the next frame (see the class description): key holds what they
-   * depend on; volume and scalars are what is drawn, at this order (1 or 2) and sample
-   * distance; the deviation axis gets at most deviationLimit entries; buildEntries tells
+   * depend on but the data, dataKey what they depend on in the data (the scalars, their
+   * modification time, the range); volume and scalars are what is drawn, at this order (1 or 2) and
+   * sample distance; the deviation axis gets at most deviationLimit entries; buildEntries tells
    * whether the table's entries are built on the CPU (false: another builder, such as a GPU
    * pass, builds them, and a background measurement chooses sizes only). The table must
    * hold its transfer functions, scalar range, segment length, iterations and moment layers.
    * Returns false after an error (reported): nothing can be drawn.
    */
   bool Update(const std::vector<double>& key,
+    const std::vector<double>& dataKey,
     vtkImageData* volume,
     vtkDataArray* scalars,
     vtkSecondOrderPreIntegrationTable* table,
@@ -91,6 +94,31 @@ public:
     double sampleDistance,
     int deviationLimit,
     bool buildEntries);
+
+  /**
+   * What the measured sizes depend on in a volume's scalars, for deciding whether a new time
+   * step needs them measured again: [range low, range high, chord, h_0 .. h_63], the
+   * histogram h of the values over the range (fractions summing to 1) and the 99th
+   * percentile of the differences between neighbouring points along x, as a fraction of the
+   * range's width (what the chords of segments at a step of one voxel span), from at most
+   * about a million points of a regular subsample of the dims[0] x dims[1] x dims[2] grid.
+   * NaN values are left out.
+   */
+  static void ComputeSignature(vtkDataArray* scalars,
+    const int dims[3],
+    const double range[2],
+    vtkDoubleArray* signature);
+
+  /**
+   * How far the distribution of signature b is from a's: the earth mover's distance between
+   * their histograms (the mean shift of the values) as a fraction of a's range's width.
+   */
+  static double DistributionShift(vtkDoubleArray* a, vtkDoubleArray* b);
+
+  /**
+   * How far the chords of b are from a's: |log(chord b / chord a)| (0.1 is about 10%).
+   */
+  static double ChordChange(vtkDoubleArray* a, vtkDoubleArray* b);
 
   /**
    * Forget the key: the next Update() sizes the table anew (and stops a background
@@ -119,6 +147,34 @@ public:
    */
   vtkGetMacro(NumberOfInterimTables, int);
 
+  ///@{
+  /**
+   * New data alone (a new time step: dataKey changed, nothing else) keeps the measured sizes,
+   * and the table's scalar range they were measured over (which then replaces the range
+   * given; values beyond it extend it by whole centre spacings, TableSize growing with it, by
+   * at most a quarter of it), when the signature of its scalars (ComputeSignature, over that
+   * range) is within MaximumDistributionShift
+   * (the mean shift of the values, as a fraction of the range) and MaximumChordChange (of the
+   * chords, as |log| of their ratio) of the signature of the data they were measured on;
+   * otherwise they are measured again. Initial values: true, 0.01 and 0.05.
+   */
+  vtkSetMacro(ReuseForNewData, bool);
+  vtkGetMacro(ReuseForNewData, bool);
+  vtkBooleanMacro(ReuseForNewData, bool);
+  vtkSetClampMacro(MaximumDistributionShift, double, 0.0, 1e9);
+  vtkGetMacro(MaximumDistributionShift, double);
+  vtkSetClampMacro(MaximumChordChange, double, 0.0, 1e9);
+  vtkGetMacro(MaximumChordChange, double);
+  ///@}
+
+  /**
+   * New data that kept the measured sizes so far, and the distances of the last new data
+   * compared (VTK_DOUBLE_MAX: not comparable).
+   */
+  vtkGetMacro(NumberOfKeptSizes, int);
+  vtkGetMacro(LastDistributionShift, double);
+  vtkGetMacro(LastChordChange, double);
+
 protected:
   vtkPreIntegrationTableSizing();
   ~vtkPreIntegrationTableSizing() override;
@@ -133,9 +189,20 @@ protected:
   int NumberOfInterimTables = 0;
   vtkPreIntegrationTableSizer* Sizer;
   vtkPreIntegrationTableRefiner* Refiner;
-  std::vector<double> Key; // what the table's sizes are for
-  bool Interim = false;    // the sizes for Key are interim (a request runs or waits)
-  vtkIdType Request = 0;   // the background request for Key
+  std::vector<double> Key;     // what the table's sizes are for, the data aside
+  std::vector<double> DataKey; // the data they are for
+  bool ReuseForNewData = true;
+  double MaximumDistributionShift = 0.01;
+  double MaximumChordChange = 0.05;
+  int NumberOfKeptSizes = 0;
+  double LastDistributionShift = 0.0;
+  double LastChordChange = 0.0;
+  // The signature of the data the sizes were last measured on, and the table's range then.
+  vtkDoubleArray* MeasuredSignature;
+  double MeasuredRange[2] = { 0.0, 1.0 };
+  int MeasuredSize = 0;  // its centre size
+  bool Interim = false;  // the sizes for Key are interim (a request runs or waits)
+  vtkIdType Request = 0; // the background request for Key
   // The tables whose sizes were measured once (the interim sizes keep them).
   std::vector<const void*> MeasuredTables;
 

@@ -17,6 +17,7 @@
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
+#include "vtkPreIntegrationTableRefiner.h"
 #include "vtkPreIntegrationTableSizer.h"
 #include "vtkPreIntegrationTableSizing.h"
 #include "vtkRenderWindow.h"
@@ -67,6 +68,12 @@ vtkPreIntegrationVolumeMapper::vtkPreIntegrationVolumeMapper()
   , TableTexture(vtkTextureObject::New())
   , EmptyRunsTexture(vtkTextureObject::New())
 {
+  vtkNew<vtkCallbackCommand> progress;
+  progress->SetCallback(&vtkPreIntegrationVolumeMapper::ForwardProgress);
+  progress->SetClientData(this);
+  this->TableSizing->GetSizer()->AddObserver(vtkCommand::ProgressEvent, progress);
+  this->FirstOrderTable->AddObserver(vtkCommand::ProgressEvent, progress);
+  this->SecondOrderTable->AddObserver(vtkCommand::ProgressEvent, progress);
 }
 
 //------------------------------------------------------------------------------
@@ -364,13 +371,15 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
     return DrawNothing;
   }
 
-  // raw texture value -> data value -> table texture coordinate (entries at texel centres).
+  // raw texture value -> data value -> table texture coordinate (entries at texel centres),
+  // over the table's range (a new time step may keep the range its sizes were measured over).
   double scale, shift;
   this->GetBricks()->GetValueMapping(scale, shift);
   const int size = table->GetTableSize();
-  const double toIndex = (size - 1.0) / (range[1] - range[0]);
+  const double* tableRange = table->GetScalarRange();
+  const double toIndex = (size - 1.0) / (tableRange[1] - tableRange[0]);
   this->RawToTable[0] = static_cast<float>(scale * toIndex / size);
-  this->RawToTable[1] = static_cast<float>(((shift - range[0]) * toIndex + 0.5) / size);
+  this->RawToTable[1] = static_cast<float>(((shift - tableRange[0]) * toIndex + 0.5) / size);
   // Differences of centre-axis coordinates -> chord and deviation coordinates (their 0 at the
   // axis' middle texel centre): a coordinate unit is (range / toIndex) size data units.
   const double unit = static_cast<double>(size) / toIndex;
@@ -640,14 +649,14 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   // Bytes per entry, all moment layers of a shaded table included.
   const int bytes[4] = { 16 * layers, 4 * layers, 8 * layers, 16 * layers };
   // Measured again only when something it depends on changed.
-  const std::vector<double> key = { static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
+  const std::vector<double> dataKey = { static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
     static_cast<double>(scalars->GetMTime()),
     static_cast<double>(input->GetMTime()),
-    static_cast<double>(table->GetSampler()->GetMTime()),
+    range[0],
+    range[1] };
+  const std::vector<double> key = { static_cast<double>(table->GetSampler()->GetMTime()),
     static_cast<double>(this->Integration),
     this->SampleDistance,
-    range[0],
-    range[1],
     this->TableMemoryLimit,
     static_cast<double>(bytes[precision]),
     static_cast<double>(limit),
@@ -662,6 +671,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   sizer->SetOpacityThreshold(this->OpacityThreshold);
   sizer->SetMeasurePrefilter(measurePrefilter);
   if (!this->TableSizing->Update(key,
+        dataKey,
         input,
         scalars,
         table,
@@ -708,6 +718,22 @@ bool vtkPreIntegrationVolumeMapper::GetRefining()
 bool vtkPreIntegrationVolumeMapper::GetRefinementReady()
 {
   return this->TableSizing->IsRefinementReady();
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationVolumeMapper::GetRefinementProgress()
+{
+  return this->TableSizing->IsRefining() ? this->TableSizing->GetRefiner()->GetProgress() : 1.0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::ForwardProgress(vtkObject*,
+  unsigned long,
+  void* clientData,
+  void* callData)
+{
+  static_cast<vtkPreIntegrationVolumeMapper*>(clientData)
+    ->InvokeEvent(vtkCommand::ProgressEvent, callData);
 }
 
 //------------------------------------------------------------------------------

@@ -212,6 +212,13 @@ public:
   bool GetRefinementReady();
 
   /**
+   * How far the background measurement is, in [0, 1] (1: none runs). Measurements made
+   * before a frame fire ProgressEvent on the mapper instead (the sizer's and the table
+   * build's).
+   */
+  double GetRefinementProgress();
+
+  /**
    * Fires TablesRefinedEvent and returns true when a table measured in the background waits
    * for the next render; call it from the application's event loop (a timer), or let
    * WatchRefinement() do so.
@@ -494,6 +501,9 @@ protected:
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
   vtkPreIntegrationTableSizing* TableSizing;
   double TableMemoryLimit = 64.0 * 1024.0 * 1024.0;
+  // Fires the mapper's ProgressEvent for the sizer's and the tables' (measurements and builds
+  // made before a frame).
+  static void ForwardProgress(vtkObject*, unsigned long, void* clientData, void* callData);
   // WatchRefinement(): the interactor, its timer (0: none) and the observer's tag.
   vtkWeakPointer<vtkRenderWindowInteractor> WatchedInteractor;
   int WatchTimer = 0;

@@ -200,6 +200,24 @@ int pqHovrVolumeBehavior::RefinementState(pqView* view)
 }
 
 //------------------------------------------------------------------------------
+double pqHovrVolumeBehavior::RefinementProgress(pqView* view)
+{
+  double progress = 1.0;
+  for (pqRepresentation* representation : view->getRepresentations())
+  {
+    vtkSMProxy* proxy = representation->getProxy();
+    vtkSMProperty* property = proxy ? proxy->GetProperty("HovrRefinementProgress") : nullptr;
+    vtkSMProxy* hovr = property ? property->GetParent() : nullptr;
+    if (hovr && representation->isVisible())
+    {
+      hovr->UpdatePropertyInformation(property);
+      progress = std::min(progress, vtkSMPropertyHelper(property).GetAsDouble());
+    }
+  }
+  return progress;
+}
+
+//------------------------------------------------------------------------------
 void pqHovrVolumeBehavior::onViewRendered()
 {
   auto* view = qobject_cast<pqView*>(this->sender());
@@ -252,6 +270,8 @@ void pqHovrVolumeBehavior::onPoll()
     else if (state == 1)
     {
       still.push_back(view);
+      this->ShowStatus(tr("hovr: refining the pre-integration table (%1%)")
+                         .arg(static_cast<int>(100.0 * RefinementProgress(view))));
     }
   }
   this->Refining = still;

@@ -18,7 +18,7 @@
  *     that draws interim tables the behaviour asks the representations, every 100 ms, where
  *     their measurement stands (HovrRefinementState) and renders the view again when a
  *     measured table waits; a label in the main window's status bar says so
- *     ("hovrRefinementStatus": refining, then refined).
+ *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined).
  */
 #ifndef pqHovrVolumeBehavior_h
 #define pqHovrVolumeBehavior_h
@@ -62,6 +62,8 @@ private Q_SLOTS:
 private:
   // Where the hovr representations of a view stand: the largest RefinementState.
   static int RefinementState(pqView* view);
+  // How far their measurements are (the least), in [0, 1].
+  static double RefinementProgress(pqView* view);
   // Shows what the refinement does in the status bar (made on first use).
   void ShowStatus(const QString& text);
   QVector<QPointer<pqView>> Refining;

@@ -288,6 +288,13 @@ int vtkHovrVolumeRepresentation::GetRefinementState()
 }
 
 //------------------------------------------------------------------------------
+double vtkHovrVolumeRepresentation::GetRefinementProgress()
+{
+  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
+  return mapper ? mapper->GetRefinementProgress() : 1.0;
+}
+
+//------------------------------------------------------------------------------
 void vtkHovrVolumeRepresentation::SetBlendMode(int blend)
 {
   if (this->BlendMode != blend)

@@ -258,6 +258,11 @@ public:
    */
   int GetRefinementState();
 
+  /**
+   * How far the background measurement is, in [0, 1] (1 when none runs).
+   */
+  double GetRefinementProgress();
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;

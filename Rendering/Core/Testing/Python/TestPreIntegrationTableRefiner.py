@@ -15,13 +15,19 @@ orders:
 - vtkPreIntegrationTableSizing with RefineInBackground: the first Update() answers with an
   interim table of at most InterimEntries entries, a later Update() with the same key takes
   the measured one; the same key again changes nothing; without it, Update() measures at once;
+- new data alone (time steps): a step whose values stay in the measured range with a close
+  distribution keeps the sizes and the range; values a little beyond it extend the range by
+  whole centre spacings; values far outside it, or a distribution far from it, are measured
+  again;
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
   check).
 """
 
+import math
+
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 import hovr
@@ -140,25 +146,76 @@ for order in (1, 2):
     sizing.SetRefineInBackground(True)
     key = [1.0, float(order)]
     table = make_table(prop, order)
-    c.check(sizing.Update(key, image, scalars, table, order, step, 4097, True),
+    data = [1.0]
+    c.check(sizing.Update(key, data, image, scalars, table, order, step, 4097, True),
             "%s: the first update answers" % name)
     c.check(sizing.IsRefining() and table.GetNumberOfEntries() <= sizing.GetInterimEntries(),
             "%s: with an interim table of at most %d entries (%d)" % (
                 name, sizing.GetInterimEntries(), table.GetNumberOfEntries()))
     sizing.WaitForRefinement()
     c.check(sizing.IsRefinementReady(), "%s: the measured table waits" % name)
-    sizing.Update(key, image, scalars, table, order, step, 4097, True)
+    sizing.Update(key, data, image, scalars, table, order, step, 4097, True)
     c.check(not sizing.IsRefining() and sizes(table) == sizes(expected) and
             numpy.array_equal(entries(table), entries(expected)),
             "%s: the next update with the same key takes the measured table" % name)
     requests = sizing.GetRefiner().GetNumberOfRequests()
-    sizing.Update(key, image, scalars, table, order, step, 4097, True)
+    sizing.Update(key, data, image, scalars, table, order, step, 4097, True)
     c.check(sizing.GetRefiner().GetNumberOfRequests() == requests and not sizing.IsRefining(),
             "%s: the same key again changes nothing" % name)
     sizing.SetRefineInBackground(False)
-    sizing.Update([2.0, float(order)], image, scalars, table, order, step, 4097, True)
+    sizing.Update([2.0, float(order)], data, image, scalars, table, order, step, 4097, True)
     c.check(not sizing.IsRefining() and sizes(table) == sizes(expected),
             "%s: without background refinement, sizes measured at once" % name)
+
+# New data alone (time steps): the measured sizes and range are kept for values inside that
+# range whose distribution and chords are close; new values outside it, or a distribution far
+# from it, are measured again.
+def step_of(function):
+    out = vtkImageData()
+    out.DeepCopy(image)
+    values = vtk_to_numpy(out.GetPointData().GetScalars())
+    values[:] = function(values)
+    out.GetPointData().GetScalars().Modified()
+    return out
+
+
+for order in (1, 2):
+    name = "order %d, time steps" % order
+    sizing = hovr.vtkPreIntegrationTableSizing()
+    table = make_table(prop, order)
+    key = [3.0, float(order)]
+
+    def update(volume, data):
+        table.SetScalarRange(*volume.GetPointData().GetScalars().GetRange())
+        return sizing.Update(key, data, volume, volume.GetPointData().GetScalars(), table, order,
+                             step, 4097, True)
+
+    update(image, [1.0])
+    measured = sizes(table), table.GetScalarRange()
+    close = step_of(lambda v: low + 0.99 * (v - low))
+    c.check(update(close, [2.0]) and sizing.GetNumberOfKeptSizes() == 1 and
+            (sizes(table), table.GetScalarRange()) == measured,
+            "%s: a close step inside the range keeps the sizes and the range (shift %.4f, chords "
+            "%.3f)" % (name, sizing.GetLastDistributionShift(), sizing.GetLastChordChange()))
+    beyond = step_of(lambda v: low + 1.005 * (v - low))
+    n, r = measured[0][0], measured[1]
+    spacing = (r[1] - r[0]) / (n - 1)
+    extra = math.ceil((beyond.GetPointData().GetScalars().GetRange()[1] - r[1]) / spacing - 1e-9)
+    c.check(update(beyond, [2.5]) and sizing.GetNumberOfKeptSizes() == 2 and
+            table.GetTableSize() == n + extra and
+            abs(table.GetScalarRange()[1] - (r[1] + extra * spacing)) <= 1e-9 * (r[1] - r[0]),
+            "%s: values a little beyond the range extend it by %d whole spacings, the sizes "
+            "kept" % (name, extra))
+    outside = step_of(lambda v: low + 1.5 * (v - low))
+    c.check(update(outside, [3.0]) and sizing.GetNumberOfKeptSizes() == 2 and
+            table.GetScalarRange() == outside.GetPointData().GetScalars().GetRange(),
+            "%s: values outside the measured range are measured again" % name)
+    update(image, [4.0])
+    far = step_of(lambda v: low + (v - low) ** 3 / (high - low) ** 2)
+    c.check(update(far, [5.0]) and sizing.GetNumberOfKeptSizes() == 2 and
+            sizing.GetLastDistributionShift() > sizing.GetMaximumDistributionShift(),
+            "%s: a distribution shifted by %.3f of the range is measured again" % (
+                name, sizing.GetLastDistributionShift()))
 
 # A refiner deleted while it measures: the worker stops at its next check.
 big = hovr.vtkMarschnerLobbSource()

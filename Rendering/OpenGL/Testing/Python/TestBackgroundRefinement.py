@@ -12,8 +12,12 @@ for both orders:
   the same image (float capture, within 1e-6: the same table and ray walk);
 - with the worker running, a second drag of 20 edits ends on the refined image of its last
   edit too (after WaitForRefinement());
-- a change of sample distance and of data (a new volume) are answered the same way: an interim
-  frame, then the refined one equal to the measured-at-once image;
+- a change of sample distance, and new data whose values leave the measured range, are
+  answered the same way: an interim frame, then the refined one equal to the measured-at-once
+  image;
+- a time step close to the measured one (values inside its range, 0.99 times the first)
+  keeps the measured sizes and range, with no interim frame, and draws what a mapper that
+  measures at once and saw the same steps draws;
 - the interim tables stay within InterimEntries entries.
 """
 
@@ -39,6 +43,16 @@ def volume(n):
     image = vtkImageData()
     image.DeepCopy(source.GetOutput())
     return image
+
+
+def scaled(image, factor):
+    """A time step: the volume's values times factor."""
+    out = vtkImageData()
+    out.DeepCopy(image)
+    values = vtk_to_numpy(out.GetPointData().GetScalars())
+    values *= factor
+    out.GetPointData().GetScalars().Modified()
+    return out
 
 
 def make_property(low, high):
@@ -193,9 +207,10 @@ for order in (1, 2):
             float(numpy.abs(refined - reference).max()) <= 1e-6,
             "%s: after a drag with the worker running, the refined image of the last edit" % name)
 
-    # A new sample distance, then a new volume (a time step).
+    # A new sample distance, then new data whose values leave the measured range (a time
+    # step whose sizes must be measured again).
     for what, change in (("sample distance", lambda: mapper.SetSampleDistance(0.5 * step)),
-                         ("data", lambda: mapper.SetInputData(volume(48)))):
+                         ("data", lambda: mapper.SetInputData(scaled(image, 1.5)))):
         change()
         view.image()
         interim = mapper.GetRefining()
@@ -206,6 +221,30 @@ for order in (1, 2):
         c.check(interim and sizes(mapper) == reference_sizes and
                 float(numpy.abs(refined - reference).max()) <= 1e-6,
                 "%s, new %s: an interim frame, then the measured-at-once image" % (name, what))
+    # A time step close to the measured one (inside its range, a similar distribution): the
+    # sizes and range are kept, no interim frame, the image is the one of a mapper that
+    # measures at once and saw the same two steps.
+    mapper.SetSampleDistance(step)
+    mapper.SetInputData(image)
+    view.image()
+    mapper.WaitForRefinement()
+    view.image()
+    sizing = mapper.GetTableSizing()
+    kept = sizing.GetNumberOfKeptSizes()
+    mapper.SetInputData(scaled(image, 0.99))
+    pixels = view.image()
+    blocking = hovr.vtkPreIntegrationVolumeMapper()
+    blocking.SetIntegration(order)
+    blocking.SetSampleDistance(step)
+    other = View(blocking, image, prop)
+    blocking.SetInputData(scaled(image, 0.99))
+    reference = other.image()
+    other.close()
+    c.check(sizing.GetNumberOfKeptSizes() == kept + 1 and not mapper.GetRefining() and
+            float(numpy.abs(pixels - reference).max()) <= 1e-6,
+            "%s, a close time step: the measured sizes kept (shift %.4f, chords %.3f), the "
+            "image of a mapper that measures at once" % (
+                name, sizing.GetLastDistributionShift(), sizing.GetLastChordChange()))
     mapper.SetInputData(image)
     mapper.SetSampleDistance(step)
     view.close()
