@@ -103,6 +103,13 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
 }
 
 //------------------------------------------------------------------------------
+void vtkFirstOrderPreIntegrationTable::AppendBuildKey(std::vector<double>& key) const
+{
+  this->Superclass::AppendBuildKey(key);
+  key.push_back(static_cast<double>(this->GetEffectiveSubSamples()));
+}
+
+//------------------------------------------------------------------------------
 int vtkFirstOrderPreIntegrationTable::GetEffectiveSubSamples() const
 {
   return this->SubSamples > 0 ? this->SubSamples

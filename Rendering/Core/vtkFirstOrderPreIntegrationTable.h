@@ -56,6 +56,7 @@ protected:
   ~vtkFirstOrderPreIntegrationTable() override;
 
   void BuildTable() override;
+  void AppendBuildKey(std::vector<double>& key) const override;
 
   int SubSamples = 0;
 

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <vector>
 
 //------------------------------------------------------------------------------
 vtkPreIntegrationTable::vtkPreIntegrationTable()
@@ -85,6 +86,18 @@ bool vtkPreIntegrationTable::Update()
   {
     return true;
   }
+  // Settings changed and changed back (a range set by one caller and restored by another, a
+  // transfer function rebuilt with the same nodes): the table is what it was.
+  std::vector<double> key;
+  this->AppendBuildKey(key);
+  if (this->BuildCount > 0 &&
+    this->Table->GetNumberOfTuples() == (this->ComputeEntries ? this->GetNumberOfEntries() : 0) &&
+    key == this->BuildKey)
+  {
+    this->BuildMTime = mtime;
+    return true;
+  }
+  this->BuildKey.clear();
   const vtkIdType entries = this->GetNumberOfEntries();
   const double start = vtkTimerLog::GetUniversalTime();
   // The table (16 bytes per entry) and the build's scratch are the only large allocations:
@@ -106,10 +119,12 @@ bool vtkPreIntegrationTable::Update()
       throw std::bad_alloc(); // vtkFloatArray reports the failure and keeps its old size
     }
     this->AbortBuild = this->BuildAborted = false;
+    this->EntriesUnchanged = false;
     this->BuildTable();
     if (this->BuildAborted)
     {
       this->Table->Initialize();
+      this->BuildKey.clear();
       this->TableReleased();
       vtkErrorMacro("The build of the pre-integration table was aborted (AbortBuild).");
       return false;
@@ -119,6 +134,7 @@ bool vtkPreIntegrationTable::Update()
   catch (const std::bad_alloc&)
   {
     this->Table->Initialize();
+    this->BuildKey.clear();
     this->TableReleased();
     vtkErrorMacro("Not enough memory for the pre-integration table of "
       << entries << " entries ("
@@ -128,8 +144,14 @@ bool vtkPreIntegrationTable::Update()
     return false;
   }
   this->LastBuildTime = vtkTimerLog::GetUniversalTime() - start;
-  this->BuildCount++;
+  // A build that left every entry as it was (settings set back and forth) is no new table:
+  // what was uploaded stands.
+  if (!this->EntriesUnchanged)
+  {
+    this->BuildCount++;
+  }
   this->BuildMTime = mtime;
+  this->BuildKey = key;
   return true;
 }
 
@@ -162,6 +184,18 @@ bool vtkPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built)
   this->BuildCount++;
   this->BuildMTime = std::max(this->GetMTime(), this->Sampler->GetMTime());
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTable::AppendBuildKey(std::vector<double>& key) const
+{
+  key.insert(key.end(),
+    { this->Sampler->GetContentHash(),
+      this->ScalarRange[0],
+      this->ScalarRange[1],
+      static_cast<double>(this->TableSize),
+      this->SegmentLength,
+      this->ComputeEntries ? 1.0 : 0.0 });
 }
 
 //------------------------------------------------------------------------------

@@ -22,6 +22,7 @@
 #include "vtkObject.h"
 
 #include <functional> // For ForInParts
+#include <vector>     // For the build key
 
 class vtkDataArray;
 class vtkFloatArray;
@@ -198,6 +199,12 @@ protected:
   // keeps what the entries were built from forgets it.
   virtual void TableReleased() {}
 
+  // Appends everything the entries depend on (the transfer functions by content, the range,
+  // the size, the segment length, ...) to key: a table whose key is the last build's needs no
+  // build. Subclasses append their own settings.
+  virtual void AppendBuildKey(std::vector<double>& key) const;
+  std::vector<double> BuildKey; // of the last complete build
+
   // Fills EmptyRuns from the prepared sampler.
   void BuildEmptyRuns();
 
@@ -207,6 +214,9 @@ protected:
 
   // Whether the last BuildTable() stopped on AbortBuild.
   bool BuildAborted = false;
+  // Set by a BuildTable() that found every entry, and what else the table holds, as the last
+  // build left them: the build is not counted (GetBuildCount), so nothing is uploaded again.
+  bool EntriesUnchanged = false;
   bool AbortBuild = false;
 
   // Scalar margin around each spacing within which opacity makes it non-empty: a table that

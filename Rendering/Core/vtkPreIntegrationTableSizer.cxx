@@ -463,12 +463,10 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     static_cast<double>(this->Seed),
     static_cast<double>(this->NumberOfRays) };
   std::vector<double> key = rayKey;
-  key.insert(key.end(),
-    { static_cast<double>(reinterpret_cast<uintptr_t>(sampler)),
-      static_cast<double>(sampler->GetMTime()),
-      range[0],
-      range[1],
-      this->ReferenceTolerance });
+  // The transfer functions by content (the sampler is prepared): a copy of them, or the same
+  // ones rebuilt unchanged, keeps the reference.
+  key.insert(
+    key.end(), { sampler->GetContentHash(), range[0], range[1], this->ReferenceTolerance });
   std::vector<double> pieceKey = rayKey;
   pieceKey.insert(pieceKey.end(), { static_cast<double>(order), sampleDistance });
   const bool reuseRays = !I.RayKey.empty() && rayKey == I.RayKey;

@@ -183,7 +183,8 @@ public:
    * deviation (GetMeasuredChordRange(), GetMeasuredDeviationRange()). What depends on less is
    * kept from the last Prepare() (compared by pointer and modification time): the rays while
    * the volume, its scalars, Seed and NumberOfRays stay the same; their pieces while the order
-   * and the sample distance also do; their reference while the table's transfer functions and
+   * and the sample distance also do; their reference while the table's transfer functions (by
+   * content, vtkVolumeTransferFunctionSampler::GetContentHash) and
    * scalar range and ReferenceTolerance also do. So an edit of the transfer functions costs
    * the reference, the exact model and the candidates, and a change of order or sample
    * distance the pieces, the exact model and the candidates. The table is not changed; it must

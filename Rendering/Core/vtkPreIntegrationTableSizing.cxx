@@ -36,6 +36,7 @@ vtkPreIntegrationTableSizing::~vtkPreIntegrationTableSizing()
 //------------------------------------------------------------------------------
 void vtkPreIntegrationTableSizing::Reset()
 {
+  this->RangeKept = false;
   this->Key.clear();
   this->DataKey.clear();
   this->MeasuredSignature->Initialize();
@@ -104,8 +105,12 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     if (this->LastDistributionShift <= this->MaximumDistributionShift &&
       this->LastChordChange <= this->MaximumChordChange)
     {
-      table->SetScalarRange(extended[0], extended[1]);
-      table->SetTableSize(n + static_cast<int>(below + above));
+      this->KeptRange[0] = extended[0];
+      this->KeptRange[1] = extended[1];
+      this->KeptTableSize = n + static_cast<int>(below + above);
+      this->RangeKept = true;
+      table->SetScalarRange(this->KeptRange);
+      table->SetTableSize(this->KeptTableSize);
       this->DataKey = dataKey;
       ++this->NumberOfKeptSizes;
       return true;
@@ -113,6 +118,12 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
   }
   if (sameSettings && dataKey == this->DataKey)
   {
+    if (this->RangeKept)
+    {
+      // The caller sets the data's range at every frame: the kept one stands.
+      table->SetScalarRange(this->KeptRange);
+      table->SetTableSize(this->KeptTableSize);
+    }
     if (!this->Interim)
     {
       return true;
@@ -139,6 +150,7 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
   this->Key = key;
   this->DataKey = dataKey;
   this->Interim = false;
+  this->RangeKept = false;
   this->Request = 0;
   table->GetScalarRange(this->MeasuredRange);
   if (volume && scalars)

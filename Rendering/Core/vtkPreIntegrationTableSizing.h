@@ -200,7 +200,12 @@ protected:
   // The signature of the data the sizes were last measured on, and the table's range then.
   vtkDoubleArray* MeasuredSignature;
   double MeasuredRange[2] = { 0.0, 1.0 };
-  int MeasuredSize = 0;  // its centre size
+  int MeasuredSize = 0; // its centre size
+  // Kept sizes for new data: the range and centre size the table keeps while the key and the
+  // data stay the same.
+  bool RangeKept = false;
+  double KeptRange[2] = { 0.0, 1.0 };
+  int KeptTableSize = 0;
   bool Interim = false;  // the sizes for Key are interim (a request runs or waits)
   vtkIdType Request = 0; // the background request for Key
   // The tables whose sizes were measured once (the interim sizes keep them).

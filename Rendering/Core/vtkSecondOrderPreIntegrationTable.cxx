@@ -62,6 +62,21 @@ bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built
 }
 
 //------------------------------------------------------------------------------
+void vtkSecondOrderPreIntegrationTable::AppendBuildKey(std::vector<double>& key) const
+{
+  this->Superclass::AppendBuildKey(key);
+  key.insert(key.end(),
+    { static_cast<double>(this->ChordSize),
+      this->GetEffectiveChordRange(),
+      static_cast<double>(this->DeviationSize),
+      this->GetEffectiveDeviationRange(),
+      static_cast<double>(this->Iterations),
+      this->Prefilter ? 1.0 : 0.0,
+      static_cast<double>(this->Moments),
+      static_cast<double>(this->SlabMoments) });
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntries() const
 {
   return static_cast<vtkIdType>(this->TableSize) * this->ChordSize * this->DeviationSize *
@@ -260,6 +275,9 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
       }
     }
   }
+  // Nothing changed at all: the entries, the iteration table and its empty runs (built from
+  // the same samples) are the last build's.
+  this->EntriesUnchanged = incremental && changedLast < changedFirst;
   this->BuiltIterationTable->DeepCopy(this->IterationTable);
   this->BuiltKernel = kernel;
   this->BuiltLayers = this->GetNumberOfLayers();

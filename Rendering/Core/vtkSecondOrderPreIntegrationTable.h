@@ -232,6 +232,7 @@ protected:
 
   void BuildTable() override;
 
+  void AppendBuildKey(std::vector<double>& key) const override;
   void TableReleased() override
   {
     this->BuiltValid = false;

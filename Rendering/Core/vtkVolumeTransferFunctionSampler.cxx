@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -213,7 +214,34 @@ public:
   double InverseUnitDistance = 1.0;
   double MaximumOpacity = 1.0;
   vtkMTimeType PreparedTime = 0;
+  double ContentHash = 0.0; // of what evaluation reads, after Prepare()
 };
+
+namespace
+{
+// FNV-1a over the bytes of the values evaluation reads.
+void HashValues(uint64_t& hash, const double* values, size_t count)
+{
+  const auto* bytes = reinterpret_cast<const unsigned char*>(values);
+  for (size_t i = 0; i < count * sizeof(double); ++i)
+  {
+    hash = (hash ^ bytes[i]) * 1099511628211ULL;
+  }
+}
+
+void HashNodes(uint64_t& hash, const std::vector<Node>& nodes)
+{
+  for (const Node& node : nodes)
+  {
+    const double values[6] = {
+      node.X, node.Y[0], node.Y[1], node.Y[2], node.Midpoint, node.Sharpness
+    };
+    HashValues(hash, values, 6);
+  }
+  const double separator = static_cast<double>(nodes.size());
+  HashValues(hash, &separator, 1);
+}
+}
 
 //------------------------------------------------------------------------------
 vtkVolumeTransferFunctionSampler::vtkVolumeTransferFunctionSampler()
@@ -353,7 +381,19 @@ bool vtkVolumeTransferFunctionSampler::Prepare()
   in.InverseUnitDistance = 1.0 / this->ScalarOpacityUnitDistance;
   in.MaximumOpacity = this->MaximumOpacity;
   in.PreparedTime = now;
+  uint64_t hash = 14695981039346656037ULL;
+  HashNodes(hash, in.OpacityNodes);
+  HashNodes(hash, in.ColorCurve);
+  const double scalars[2] = { in.InverseUnitDistance, in.MaximumOpacity };
+  HashValues(hash, scalars, 2);
+  in.ContentHash = static_cast<double>(hash >> 11); // 53 bits: exact in a double
   return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkVolumeTransferFunctionSampler::GetContentHash() const
+{
+  return this->Internals->ContentHash;
 }
 
 //------------------------------------------------------------------------------

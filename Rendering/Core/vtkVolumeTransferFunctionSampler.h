@@ -106,6 +106,15 @@ public:
   bool Prepare();
 
   /**
+   * A hash (53 bits, exact in a double) of everything evaluation reads, as of the last
+   * Prepare(): the nodes as evaluated, the unit distance and the opacity cap. Two samplers, or
+   * one before and after an edit that changed nothing (a function rebuilt with the same nodes,
+   * a modification time bumped), evaluate alike where their hashes are equal: caches keyed by
+   * it survive such edits, which keys of modification times do not. 0 before Prepare().
+   */
+  double GetContentHash() const;
+
+  /**
    * Colour and extinction at scalar s: rgbTau = (r, g, b, tau). Requires Prepare().
    * A NaN scalar gives a transparent black sample.
    */

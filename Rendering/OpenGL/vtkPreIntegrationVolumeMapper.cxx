@@ -654,7 +654,9 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     static_cast<double>(input->GetMTime()),
     range[0],
     range[1] };
-  const std::vector<double> key = { static_cast<double>(table->GetSampler()->GetMTime()),
+  // The transfer functions by content: an application that rebuilds them unchanged (ParaView
+  // does, at each time step) keeps the measured sizes.
+  const std::vector<double> key = { table->GetSampler()->GetContentHash(),
     static_cast<double>(this->Integration),
     this->SampleDistance,
     this->TableMemoryLimit,
