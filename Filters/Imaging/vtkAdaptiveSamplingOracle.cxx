@@ -2,6 +2,8 @@
 #include "vtkAdaptiveSamplingOracle.h"
 
 #include "vtkArrayDispatch.h"
+#include "vtkBackgroundWorker.h"
+#include "vtkCallbackCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkFloatArray.h"
@@ -9,8 +11,10 @@
 #include "vtkImagingInputCheck.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLowPriorityThreads.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -23,7 +27,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <new>
+#include <string>
+#include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -60,7 +67,19 @@ bool RunPass(vtkAdaptiveSamplingOracle* self,
     {
       return false;
     }
-    vtkSMPTools::For(count * c / chunks, count * (c + 1) / chunks, functor);
+    const vtkIdType begin = count * c / chunks;
+    const vtkIdType end = count * (c + 1) / chunks;
+    if (self && self->GetLowPriority())
+    {
+      // Beside a renderer that answers first: its threads keep the cores they want.
+      vtkLowPriorityThreads::For(end - begin,
+        std::max<vtkIdType>(1, (end - begin) / 64),
+        [&](vtkIdType b, vtkIdType e) { functor(begin + b, begin + e); });
+    }
+    else
+    {
+      vtkSMPTools::For(begin, end, functor);
+    }
     if (self)
     {
       self->UpdateProgress(
@@ -880,6 +899,120 @@ struct vtkAdaptiveSamplingOracle::RangeCache
 };
 
 //------------------------------------------------------------------------------
+// RefineInBackground: a second instance (the Computer, never in the background itself) computes
+// the distances, in the worker's thread or, when there are no interim distances to output, in
+// the caller's. Its kept range volumes serve both.
+struct vtkAdaptiveSamplingOracle::vtkBackground
+{
+  // The Computer outlives the worker (members are destroyed in reverse), whose thread uses it.
+  vtkNew<vtkAdaptiveSamplingOracle> Computer;
+  vtkBackgroundWorker Worker;
+  vtkAdaptiveSamplingOracle* Self = nullptr;
+  std::thread::id Owner = std::this_thread::get_id();
+  // The newest job and what it computes (the key of RequestDataInBackground).
+  vtkIdType Job = 0;
+  std::vector<double> JobKey;
+  bool JobChecked = false; // CheckRefinement saw it end
+  // The job's result, written by the worker, read after GetState says it ended.
+  vtkSmartPointer<vtkDataArray> Result;
+  bool ResultRanges = false;
+  vtkIdType ResultFeatures = 0;
+  double ResultCap = 0.0;
+  std::string ResultError;
+  // The worker's stop flag while a job runs (read by the Computer's progress observer).
+  std::atomic<const std::atomic<bool>*> Stop{ nullptr };
+  // The input as the worker sees it: a shallow copy made again only when the data change, so
+  // that the Computer's range volumes are kept across edits of the opacity.
+  vtkSmartPointer<vtkImageData> Snapshot;
+  std::vector<double> SnapshotKey;
+  // The distances last output, their grid and the settings they were computed with.
+  vtkSmartPointer<vtkDataArray> Shown;
+  std::vector<double> ShownGrid;
+  std::vector<double> ShownKey;
+  // Whether the last output holds interim distances.
+  bool Interim = false;
+  vtkTimeStamp Ended; // when a job's end was seen: the next update takes its result
+
+  // Errors and warnings of the Computer: the owner's own on the caller's thread, kept for the
+  // next update in the worker's.
+  static void Report(vtkObject*, unsigned long event, void* clientData, void* callData)
+  {
+    vtkBackground& b = *static_cast<vtkBackground*>(clientData);
+    vtkAdaptiveSamplingOracle* self = b.Self;
+    const char* text = static_cast<const char*>(callData);
+    if (std::this_thread::get_id() == b.Owner)
+    {
+      self->InvokeEvent(event, callData);
+      if (!self->HasObserver(event) && text)
+      {
+        if (event == vtkCommand::ErrorEvent)
+        {
+          vtkOutputWindowDisplayErrorText(text);
+        }
+        else
+        {
+          vtkOutputWindowDisplayWarningText(text);
+        }
+      }
+    }
+    else if (event == vtkCommand::ErrorEvent && text)
+    {
+      b.ResultError += text;
+    }
+  }
+
+  // A stopped job aborts the Computer between its chunks.
+  static void Abort(vtkObject*, unsigned long, void* clientData, void*)
+  {
+    vtkBackground& b = *static_cast<vtkBackground*>(clientData);
+    const std::atomic<bool>* stop = b.Stop.load();
+    if (stop && *stop)
+    {
+      b.Computer->SetAbortExecute(1);
+    }
+  }
+
+  // The owner's settings, copied for the worker.
+  struct Settings
+  {
+    int Mode;
+    double Epsilon;
+    vtkTypeBool AutomaticMaximumDistance;
+    double MaximumDistance;
+    std::string OutputArrayName;
+  };
+
+  // Computes the distances of snapshot for the settings and the given opacity, on the calling
+  // thread; false when it failed or was stopped.
+  bool Compute(const Settings& owner, vtkImageData* snapshot, vtkPiecewiseFunction* opacity,
+    vtkInformation* arrayInfo)
+  {
+    vtkAdaptiveSamplingOracle* c = this->Computer;
+    c->LowPriority = std::this_thread::get_id() != this->Owner;
+    c->SetInputData(snapshot);
+    c->SetInputArrayToProcess(0, arrayInfo);
+    c->SetScalarOpacity(opacity);
+    c->SetMode(owner.Mode);
+    c->SetEpsilon(owner.Epsilon);
+    c->SetAutomaticMaximumDistance(owner.AutomaticMaximumDistance);
+    c->SetMaximumDistance(owner.MaximumDistance);
+    c->SetOutputArrayName(owner.OutputArrayName.c_str());
+    c->SetAbortExecute(0);
+    c->Modified(); // an aborted execution must not pass for an up-to-date one
+    this->ResultError.clear();
+    c->Update();
+    vtkDataArray* distances =
+      c->GetOutput()->GetPointData()->GetArray(owner.OutputArrayName.c_str());
+    this->Result = c->GetAbortExecute() ? nullptr : distances;
+    this->ResultRanges = c->GetLastRecomputedRanges();
+    this->ResultFeatures = c->GetLastNumberOfFeaturePoints();
+    this->ResultCap = c->GetLastMaximumDistance();
+    c->SetInputData(nullptr);
+    return this->Result != nullptr;
+  }
+};
+
+//------------------------------------------------------------------------------
 vtkAdaptiveSamplingOracle::vtkAdaptiveSamplingOracle()
 {
   this->SetOutputArrayName("OracleDistance");
@@ -890,6 +1023,11 @@ vtkAdaptiveSamplingOracle::vtkAdaptiveSamplingOracle()
 //------------------------------------------------------------------------------
 vtkAdaptiveSamplingOracle::~vtkAdaptiveSamplingOracle()
 {
+  if (this->Background)
+  {
+    this->Background->Worker.Cancel();
+    this->Background->Worker.Wait();
+  }
   this->SetOutputArrayName(nullptr);
   this->SetScalarOpacity(nullptr);
 }
@@ -938,7 +1076,252 @@ vtkMTimeType vtkAdaptiveSamplingOracle::GetMTime()
   {
     mtime = std::max(mtime, this->ScalarOpacity->GetMTime());
   }
+  if (this->Background)
+  {
+    mtime = std::max(mtime, this->Background->Ended.GetMTime());
+  }
   return mtime;
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveSamplingOracle::SetRefineInBackground(bool refine)
+{
+  if (refine == this->RefineInBackground)
+  {
+    return;
+  }
+  this->RefineInBackground = refine;
+  if (refine)
+  {
+    if (!this->Background)
+    {
+      this->Background.reset(new vtkBackground);
+      vtkBackground& b = *this->Background;
+      b.Self = this;
+      vtkNew<vtkCallbackCommand> report;
+      report->SetCallback(vtkBackground::Report);
+      report->SetClientData(&b);
+      b.Computer->AddObserver(vtkCommand::ErrorEvent, report);
+      b.Computer->AddObserver(vtkCommand::WarningEvent, report);
+      vtkNew<vtkCallbackCommand> abort;
+      abort->SetCallback(vtkBackground::Abort);
+      abort->SetClientData(&b);
+      b.Computer->AddObserver(vtkCommand::ProgressEvent, abort);
+    }
+    this->Cache.reset(); // the Computer keeps its own
+  }
+  else if (this->Background)
+  {
+    this->Background.reset(); // stops and joins the worker
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+bool vtkAdaptiveSamplingOracle::GetRefining()
+{
+  return this->Background && this->Background->Interim;
+}
+
+//------------------------------------------------------------------------------
+bool vtkAdaptiveSamplingOracle::GetRefinementReady()
+{
+  if (!this->GetRefining() || this->Background->Job == 0)
+  {
+    return false;
+  }
+  const int state = this->Background->Worker.GetState(this->Background->Job);
+  return state == vtkBackgroundWorker::DONE || state == vtkBackgroundWorker::FAILED;
+}
+
+//------------------------------------------------------------------------------
+double vtkAdaptiveSamplingOracle::GetRefinementProgress()
+{
+  if (!this->GetRefining() || this->GetRefinementReady())
+  {
+    return 1.0;
+  }
+  return this->Background->Computer->GetProgress();
+}
+
+//------------------------------------------------------------------------------
+bool vtkAdaptiveSamplingOracle::CheckRefinement()
+{
+  if (!this->GetRefinementReady() || this->Background->JobChecked)
+  {
+    return false;
+  }
+  this->Background->JobChecked = true;
+  this->Background->Ended.Modified();
+  this->InvokeEvent(OracleRefinedEvent);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveSamplingOracle::WaitForRefinement()
+{
+  if (!this->GetRefining())
+  {
+    return;
+  }
+  this->Background->Worker.Wait();
+  if (!this->Background->JobChecked)
+  {
+    this->Background->JobChecked = true;
+    this->Background->Ended.Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
+  vtkDataArray* scalars,
+  int association,
+  vtkImageData* output,
+  vtkInformation* outInfo)
+{
+  vtkBackground& b = *this->Background;
+  int dims[3];
+  input->GetDimensions(dims);
+  const double* spacing = input->GetSpacing();
+  // What the distances depend on: the grid and settings (which interim distances must share),
+  // the data, and the opacity function by content (ParaView sets it again unchanged).
+  std::vector<double> grid = { static_cast<double>(dims[0]), static_cast<double>(dims[1]),
+    static_cast<double>(dims[2]), spacing[0], spacing[1], spacing[2],
+    static_cast<double>(this->Mode), this->Epsilon,
+    static_cast<double>(this->AutomaticMaximumDistance), this->MaximumDistance,
+    static_cast<double>(std::hash<std::string>()(this->OutputArrayName)) };
+  std::vector<double> data = { static_cast<double>(reinterpret_cast<uintptr_t>(input)),
+    static_cast<double>(input->GetMTime()),
+    static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
+    static_cast<double>(scalars->GetMTime()), static_cast<double>(association) };
+  std::vector<double> key = grid;
+  key.insert(key.end(), data.begin(), data.end());
+  if (this->Mode == OPACITY_GRADIENT || this->Mode == OPACITY_RANGE)
+  {
+    const int n = this->ScalarOpacity->GetSize();
+    const double* nodes = this->ScalarOpacity->GetDataPointer();
+    key.insert(key.end(), nodes, nodes + 2 * n);
+    for (int i = 0; i < n; ++i)
+    {
+      double node[4];
+      this->ScalarOpacity->GetNodeValue(i, node);
+      key.push_back(node[2]);
+      key.push_back(node[3]);
+    }
+    key.push_back(this->ScalarOpacity->GetClamping());
+    key.push_back(this->ScalarOpacity->GetUseLogScale());
+  }
+
+  auto give = [&](vtkDataArray* distances) {
+    output->ShallowCopy(input);
+    output->GetPointData()->AddArray(distances);
+    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+    {
+      output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+    }
+  };
+  auto take = [&]() {
+    b.Shown = b.Result;
+    b.ShownGrid = grid;
+    b.ShownKey = key;
+    b.Interim = false;
+    b.Job = 0;
+    this->LastRecomputedRanges = b.ResultRanges;
+    this->LastNumberOfFeaturePoints = b.ResultFeatures;
+    this->LastMaximumDistance = b.ResultCap;
+    give(b.Shown);
+    return 1;
+  };
+
+  // Nothing changed: the distances output last.
+  if (b.Shown && b.ShownKey == key)
+  {
+    b.Worker.Cancel();
+    b.Job = 0;
+    b.Interim = false;
+    give(b.Shown);
+    return 1;
+  }
+  // The job of this key: its distances when it is done, the interim ones while it runs; when it
+  // failed (or was stopped), they are computed here, where errors reach the caller.
+  bool here = false;
+  if (b.Job != 0 && b.JobKey == key)
+  {
+    const int state = b.Worker.GetState(b.Job);
+    if (state == vtkBackgroundWorker::DONE)
+    {
+      return take();
+    }
+    if (state == vtkBackgroundWorker::WAITING || state == vtkBackgroundWorker::RUNNING)
+    {
+      give(b.Shown);
+      return 1;
+    }
+    here = true;
+  }
+
+  if (b.SnapshotKey != data || !b.Snapshot)
+  {
+    b.Snapshot = vtkSmartPointer<vtkImageData>::New();
+    b.Snapshot->ShallowCopy(input);
+    b.SnapshotKey = data;
+  }
+  vtkNew<vtkInformation> arrayInfo;
+  arrayInfo->Copy(this->GetInputArrayInformation(0));
+  const vtkBackground::Settings settings = { this->Mode, this->Epsilon,
+    this->AutomaticMaximumDistance, this->MaximumDistance, this->OutputArrayName };
+  vtkSmartPointer<vtkPiecewiseFunction> opacity;
+  if (this->ScalarOpacity)
+  {
+    opacity = vtkSmartPointer<vtkPiecewiseFunction>::New();
+    opacity->DeepCopy(this->ScalarOpacity);
+  }
+
+  if (here || !b.Shown || b.ShownGrid != grid)
+  {
+    // Nothing to answer with: computed here (the worker stopped first, as it shares the
+    // Computer).
+    b.Worker.Cancel();
+    b.Worker.Wait();
+    b.Job = 0;
+    b.Interim = false;
+    if (!b.Compute(settings, b.Snapshot, opacity, arrayInfo))
+    {
+      b.Shown = nullptr;
+      output->Initialize();
+      return 1;
+    }
+    return take();
+  }
+
+  // Answer with the last distances; compute this key's in the worker.
+  vtkSmartPointer<vtkImageData> snapshot = b.Snapshot;
+  vtkSmartPointer<vtkInformation> info = arrayInfo.GetPointer();
+  b.JobKey = key;
+  b.JobChecked = false;
+  vtkBackground* worker = &b;
+  b.Job = b.Worker.Submit([worker, settings, snapshot, opacity, info](
+                            vtkIdType, const std::atomic<bool>& stop) {
+    vtkBackground& w = *worker;
+    w.Stop = &stop;
+    const bool done = w.Compute(settings, snapshot, opacity, info) && !stop;
+    w.Stop = nullptr;
+    return done;
+  });
+  if (b.Job == 0)
+  {
+    vtkErrorMacro("The worker thread could not start; the distances are computed here.");
+    this->Background->Interim = false;
+    if (!b.Compute(settings, b.Snapshot, opacity, arrayInfo))
+    {
+      output->Initialize();
+      return 1;
+    }
+    return take();
+  }
+  b.Interim = true;
+  give(b.Shown);
+  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -1082,6 +1465,11 @@ int vtkAdaptiveSamplingOracle::RequestData(vtkInformation*,
   {
     vtkErrorMacro(<< problem);
     return 1;
+  }
+  if (this->RefineInBackground && this->Background)
+  {
+    return this->RequestDataInBackground(
+      input, scalars, association, output, outputVector->GetInformationObject(0));
   }
   int dims[3];
   input->GetDimensions(dims);
@@ -1273,4 +1661,6 @@ void vtkAdaptiveSamplingOracle::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastRecomputedRanges: " << this->LastRecomputedRanges << "\n";
   os << indent << "LastNumberOfFeaturePoints: " << this->LastNumberOfFeaturePoints << "\n";
   os << indent << "LastMaximumDistance: " << this->LastMaximumDistance << "\n";
+  os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
+  os << indent << "LowPriority: " << this->LowPriority << "\n";
 }

@@ -67,6 +67,16 @@
  * Progress events come between chunks of work on the calling thread, and AbortExecute is
  * honoured there (the output then has no distance array, and half-computed ranges are dropped).
  *
+ * Answer first, refine after (RefineInBackground): an interactive application that edits the
+ * opacity function, or steps through time, gets each update's output at once with the
+ * distances it last output (when they are on the same grid, with the same settings), and the
+ * new distances are computed in a worker thread of low priority (vtkBackgroundWorker,
+ * vtkLowPriorityThreads), a newer update stopping an older computation. The stale distances
+ * may skip a feature the edit made: the renderer's frame is an interim one, and
+ * CheckRefinement() (from the application's event loop) fires OracleRefinedEvent and marks the
+ * filter modified when the new distances are ready, so that the next update outputs them.
+ * Batch use keeps it off: every update computes its own distances.
+ *
  * Bad input or settings are reported through vtkErrorMacro with an empty output: no
  * ScalarOpacity (or one without points) in the opacity modes, no input array, a cell array,
  * more than one component, a point count that does not match the grid, an empty image, a zero
@@ -81,6 +91,7 @@
 #define vtkAdaptiveSamplingOracle_h
 
 #include "hovrFiltersImagingModule.h" // For export macro
+#include "vtkCommand.h"                // For OracleRefinedEvent
 #include "vtkImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
@@ -209,6 +220,63 @@ public:
    */
   vtkMTimeType GetMTime() override;
 
+  /**
+   * Fired by CheckRefinement() when distances computed in the background wait to be output:
+   * update (render) again to get them.
+   */
+  enum RefinementEvents
+  {
+    OracleRefinedEvent = vtkCommand::UserEvent + 7302
+  };
+
+  ///@{
+  /**
+   * Answer first, refine after (see the class description): an update that needs new
+   * distances outputs the last ones at once when they are on the same grid with the same
+   * settings, and computes the new ones in a worker thread. Otherwise (the first update, a new
+   * grid, a new setting, an input that fails its checks) the update computes them itself.
+   * Turning it off stops the computation in the background. Initial value is false.
+   */
+  virtual void SetRefineInBackground(bool refine);
+  vtkGetMacro(RefineInBackground, bool);
+  vtkBooleanMacro(RefineInBackground, bool);
+  ///@}
+
+  /**
+   * Whether the last output holds interim distances whose own are not output yet (being
+   * computed, or waiting for the next update).
+   */
+  bool GetRefining();
+
+  /**
+   * Whether distances computed in the background wait for the next update.
+   */
+  bool GetRefinementReady();
+
+  /**
+   * How far the computation in the background is, in [0, 1] (1: none runs).
+   */
+  double GetRefinementProgress();
+
+  /**
+   * Fires OracleRefinedEvent, marks the filter modified and returns true when the background
+   * computation of the last output's distances has ended (with distances, or with an error
+   * the next update reports); call it from the application's event loop.
+   */
+  bool CheckRefinement();
+
+  /**
+   * Block until the background computation of the last output's distances has ended, and
+   * mark the filter modified so that the next update outputs them.
+   */
+  void WaitForRefinement();
+
+  /**
+   * Whether the passes run in threads of low priority (vtkLowPriorityThreads) rather than
+   * vtkSMPTools': on for the instance that computes in the background. Initial value is false.
+   */
+  bool GetLowPriority() { return this->LowPriority; }
+
 protected:
   vtkAdaptiveSamplingOracle();
   ~vtkAdaptiveSamplingOracle() override;
@@ -227,6 +295,8 @@ protected:
   bool LastRecomputedRanges = false;
   vtkIdType LastNumberOfFeaturePoints = 0;
   double LastMaximumDistance = 0.0;
+  bool RefineInBackground = false;
+  bool LowPriority = false;
 
 private:
   vtkAdaptiveSamplingOracle(const vtkAdaptiveSamplingOracle&) = delete;
@@ -234,6 +304,14 @@ private:
 
   struct RangeCache;
   std::unique_ptr<RangeCache> Cache; // the smin/smax volumes of OPACITY_RANGE
+  struct vtkBackground;
+  std::unique_ptr<vtkBackground> Background; // the worker and what it computes
+  // The update of RefineInBackground: interim distances and a job, or the distances at once.
+  int RequestDataInBackground(vtkImageData* input,
+    vtkDataArray* scalars,
+    int association,
+    vtkImageData* output,
+    vtkInformation* outInfo);
 };
 
 #endif

@@ -48,12 +48,33 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
     out[3] = static_cast<float>(1.0 - transmittance);
   };
   // Entries of one scalar difference m = |j - i| share the piece length d / (m k), so each
-  // piece's opacity is one exponential per difference, not one per entry that crosses it.
+  // piece's opacity is one exponential per difference, not one per entry that crosses it. The
+  // entries of one difference are windows of L = m k pieces sliding over the pieces: with the
+  // pieces cut into blocks of L, a window is the composite of a block's tail and the next
+  // block's head, both kept per piece (front-to-back compositing is associative), so a
+  // difference costs a few passes over the pieces instead of L per entry.
   const int pieceCount = (n - 1) * k;
   this->ForInParts(n,
     [&](vtkIdType mBegin, vtkIdType mEnd)
     {
-      std::vector<double> alphas(static_cast<size_t>(pieceCount));
+      // Premultiplied colour and transmittance of a run of pieces.
+      struct Run
+      {
+        double C[3];
+        double T;
+      };
+      // a in front of b.
+      auto over = [](const Run& a, const Run& b) -> Run
+      {
+        return { { a.C[0] + a.T * b.C[0], a.C[1] + a.T * b.C[1], a.C[2] + a.T * b.C[2] },
+          a.T * b.T };
+      };
+      const Run clear = { { 0.0, 0.0, 0.0 }, 1.0 };
+      std::vector<Run> piece(static_cast<size_t>(pieceCount));
+      // Per piece q in block [b, e): head = b..q and tail = q..e front to back (upwards),
+      // downHead = q..b and downTail = e..q front to back (downwards).
+      std::vector<Run> head(piece.size()), tail(piece.size()), downHead(piece.size()),
+        downTail(piece.size());
       for (vtkIdType m = mBegin; m < mEnd; ++m)
       {
         if (m == 0)
@@ -67,36 +88,53 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
           }
           continue;
         }
-        const int pieces = static_cast<int>(m) * k;
-        const double h = d / pieces;
+        const int L = static_cast<int>(m) * k;
+        const double h = d / L;
         for (int q = 0; q < pieceCount; ++q)
         {
-          alphas[q] = -std::expm1(-atPiece[4 * q + 3] * h);
+          const double* f = atPiece.data() + 4 * q;
+          const double alpha = -std::expm1(-f[3] * h);
+          piece[q] = { { f[0] * alpha, f[1] * alpha, f[2] * alpha }, 1.0 - alpha };
+        }
+        for (int b = 0; b < pieceCount; b += L)
+        {
+          const int e = std::min(b + L, pieceCount);
+          Run up = clear, down = clear;
+          for (int q = b; q < e; ++q)
+          {
+            up = over(up, piece[q]);
+            head[q] = up;
+            down = over(piece[q], down);
+            downHead[q] = down;
+          }
+          up = clear;
+          down = clear;
+          for (int q = e - 1; q >= b; --q)
+          {
+            up = over(piece[q], up);
+            tail[q] = up;
+            down = over(down, piece[q]);
+            downTail[q] = down;
+          }
         }
         for (int i = 0; i + m < n; ++i)
         {
-          // Walk the pieces from the front scalar to the back scalar: upwards from i to
-          // j = i + m, and downwards from j to i.
-          for (int direction = 0; direction < 2; ++direction)
+          // Pieces a .. a + L - 1, from scalar i up to j = i + m, and back down.
+          const int a = i * k;
+          const int last = a + L - 1;
+          Run upwards, downwards;
+          if (a % L == 0)
           {
-            const int front = direction == 0 ? i : static_cast<int>(i + m);
-            const int first = direction == 0 ? front * k : front * k - 1;
-            const int step = direction == 0 ? 1 : -1;
-            double rgb[3] = { 0, 0, 0 };
-            double transmittance = 1.0;
-            for (int p = 0; p < pieces; ++p)
-            {
-              const int q = first + step * p;
-              const double* f = atPiece.data() + 4 * q;
-              const double alpha = alphas[q];
-              const double w = transmittance * alpha;
-              rgb[0] += w * f[0];
-              rgb[1] += w * f[1];
-              rgb[2] += w * f[2];
-              transmittance *= 1.0 - alpha;
-            }
-            store(front, direction == 0 ? i + m : i, rgb, transmittance);
+            upwards = head[last];
+            downwards = downHead[last];
           }
+          else
+          {
+            upwards = over(tail[a], head[last]);
+            downwards = over(downHead[last], downTail[a]);
+          }
+          store(i, i + m, upwards.C, upwards.T);
+          store(i + m, i, downwards.C, downwards.T);
         }
       }
     });

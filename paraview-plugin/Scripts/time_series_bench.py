@@ -20,7 +20,7 @@ import statistics
 import tempfile
 import time
 
-from paraview.simple import (ColorBy, GetAnimationScene, GetColorTransferFunction,
+from paraview.simple import (ColorBy, Delete, GetAnimationScene, GetColorTransferFunction,
                              GetOpacityTransferFunction, LoadPlugin, Render, Show,
                              UpdatePipeline, XMLImageDataReader, CreateRenderView)
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
@@ -88,6 +88,9 @@ for name, settings in (("Volume", {}), ("hovr Volume", {"HovrIntegration": 1}),
     cameras[label] = statistics.median(camera)
     print("%-34s median %.3f s per step over %d steps, %.3f s per frame of a camera move" % (
         label, results[label], len(times), cameras[label]))
+    # The animation scene renders every view at each step: only the one measured may exist.
+    Delete(view)
+    del view, display
 stock = results["Volume"]
 for label, seconds in results.items():
     print("%-34s %.2f x Volume per step; %.2f x its own camera move" % (

@@ -171,29 +171,41 @@ def load_volume(spec, base=None):
 EXAGGERATED_NORMALS = "ExaggeratedNormals"
 
 
-def add_oracle(scene, mode, epsilon):
-    """Adds to the scene's volume the oracle of adaptive sampling for its opacity
-    (vtkAdaptiveSamplingOracle, ``mode`` a key of ORACLE_MODES, feature threshold
-    ``epsilon``), once per (mode, epsilon); returns the array's name. The distances are not
-    capped below the volume's diagonal, so every l_max and step can use them."""
+def make_oracle(image, opacity, mode, epsilon, name):
+    """vtkAdaptiveSamplingOracle on ``image`` for the opacity function (``mode`` a key of
+    ORACLE_MODES, feature threshold ``epsilon``), writing the point array ``name``. The
+    distances are not capped below the volume's diagonal, so every l_max and step can use
+    them."""
     from . import hovrFiltersImaging as imaging
     from .registry import ORACLE_MODES
-    from .renderer import _Errors
-    key = (mode, float(epsilon))
-    if key in scene.oracles:
-        return scene.oracles[key]
-    name = "OracleDistance_%s_%g" % key
-    image = scene.image
     oracle = imaging.vtkAdaptiveSamplingOracle()
     oracle.SetInputData(image)
     oracle.SetMode(ORACLE_MODES[mode])
-    oracle.SetScalarOpacity(scene.prop.GetScalarOpacity())
+    oracle.SetScalarOpacity(opacity)
     oracle.SetEpsilon(float(epsilon))
     bounds = image.GetBounds()
     diagonal = sum((bounds[2 * a + 1] - bounds[2 * a]) ** 2 for a in range(3)) ** 0.5
     oracle.AutomaticMaximumDistanceOff()
     oracle.SetMaximumDistance(max(diagonal, min(abs(s) for s in image.GetSpacing())))
     oracle.SetOutputArrayName(name)
+    return oracle
+
+
+def oracle_name(mode, epsilon):
+    """The name of the oracle array of ``mode`` and ``epsilon`` (add_oracle)."""
+    return "OracleDistance_%s_%g" % (mode, float(epsilon))
+
+
+def add_oracle(scene, mode, epsilon):
+    """Adds to the scene's volume the oracle of adaptive sampling for its opacity
+    (make_oracle), once per (mode, epsilon); returns the array's name."""
+    from .renderer import _Errors
+    key = (mode, float(epsilon))
+    if key in scene.oracles:
+        return scene.oracles[key]
+    name = oracle_name(mode, epsilon)
+    image = scene.image
+    oracle = make_oracle(image, scene.prop.GetScalarOpacity(), mode, epsilon, name)
     errors = _Errors(oracle)
     oracle.Update()
     errors.close()

@@ -30,8 +30,10 @@ use; batch use waits for every measured table). For every dataset and method, in
 - ``step``: a frame after the sample distance changes (between 1 and 1.125 times ``step``);
 - ``data``: a frame after a new time step (``marschner-lobb`` inputs: the field's alpha
   moves by 0.01 a step; other inputs: the volume scaled by 1 + 0.01 t);
-- the adaptive methods' oracle is computed again after each opacity edit and new time step,
-  as an application does (vtkAdaptiveSamplingOracle), and that time counts in the change's;
+- the adaptive methods draw through a vtkAdaptiveSamplingOracle kept in the pipeline, as an
+  application does, with RefineInBackground on: an opacity edit or a new time step is drawn at
+  once with the last distances, and the new ones are computed in the background (the refined
+  frame waits for them);
 - for ``opacity``, the refined frame's error and the first frame's after the last edit
   (RMSE of premultiplied RGBA against the reference on the sampled pixels), and
   ``refined_ms``, the time from the last edit until the refined frame is drawn.
@@ -112,7 +114,11 @@ class View:
         method.configure(self.mapper, scene)
         if hasattr(self.mapper, "SetRefineInBackground") and self.mapper.GetTableSize() == 0:
             self.mapper.SetRefineInBackground(True)
-        self.mapper.SetInputData(scene.image)
+        self.oracle = _oracle_filter(method, scene)
+        if self.oracle is not None:
+            self.oracle.SetRefineInBackground(True)
+            self.mapper.SetInputConnection(self.oracle.GetOutputPort())
+        self.set_input(scene.image)
         self.mapper.SetSampleDistance(scene.step_length(step))
         self.volume = vtkVolume()
         self.volume.SetMapper(self.mapper)
@@ -128,16 +134,28 @@ class View:
         self.last_frame_ms = 1000.0 * (time.perf_counter() - start)
         return self.last_frame_ms
 
+    def set_input(self, image):
+        """The volume drawn (through the oracle, for the adaptive methods)."""
+        if self.oracle is not None:
+            self.oracle.SetInputData(image)
+        else:
+            self.mapper.SetInputData(image)
+
     def refining(self):
-        return hasattr(self.mapper, "GetRefining") and self.mapper.GetRefining()
+        return ((hasattr(self.mapper, "GetRefining") and self.mapper.GetRefining()) or
+                (self.oracle is not None and self.oracle.GetRefining()))
 
     def refine(self, since):
-        """Wait for the refined table and draw it; ms from ``since`` (perf_counter seconds)
-        until it is drawn, or None when nothing was refining."""
+        """Wait for the refined table (or oracle) and draw it; ms from ``since``
+        (perf_counter seconds) until it is drawn, or None when nothing was refining."""
         if not self.refining():
             return None
-        self.mapper.WaitForRefinement()
-        self.frame()
+        while self.refining():
+            if self.oracle is not None:
+                self.oracle.WaitForRefinement()
+            if hasattr(self.mapper, "WaitForRefinement"):
+                self.mapper.WaitForRefinement()
+            self.frame()
         return 1000.0 * (time.perf_counter() - since)
 
     def image(self):
@@ -169,23 +187,16 @@ def _edit_colour(prop, k):
     function.SetNodeValue(index, node)
 
 
-def _oracle_updater(method, scene, view):
-    """For the adaptive methods, what an application does after an opacity edit or a new time
-    step: compute the oracle of the volume drawn for the opacity drawn (vtkAdaptiveSamplingOracle,
-    as ``hovr.bench.add_oracle``), timed with the frame; None for the other methods."""
+def _oracle_filter(method, scene):
+    """For the adaptive methods that read an oracle array, the filter that computes it in the
+    view's pipeline (the array the method is configured to read); None for the others."""
     from .registry import AdaptiveMethod
     if not isinstance(method, AdaptiveMethod) or method.oracle_array(scene) is None:
         return None
-    from .bench import add_oracle
-
-    def update():
-        image = view.mapper.GetInput()
-        edited = hm.Scene.__new__(hm.Scene)
-        edited.image, edited.prop, edited.oracles = image, scene.prop, {}
-        values = method.settings(scene)
-        add_oracle(edited, values["oracle"], values["epsilon"])
-        image.Modified()
-    return update
+    from .bench import make_oracle, oracle_name
+    values = method.settings(scene)
+    return make_oracle(scene.image, scene.prop.GetScalarOpacity(), values["oracle"],
+                       values["epsilon"], oracle_name(values["oracle"], values["epsilon"]))
 
 
 def measure(method, scene, step, steps, changes, reference=None, log=print):
@@ -205,19 +216,15 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
         rows["camera"] = camera
         first = refined = None
         refine_ms = {}
-        oracle = _oracle_updater(method, scene, view)
         for change, apply in (("opacity", lambda k: _edit_opacity(scene.prop, k)),
                               ("colour", lambda k: _edit_colour(scene.prop, k)),
                               ("step", lambda k: view.mapper.SetSampleDistance(
                                   scene.step_length(step * (1.125 if k % 2 == 0 else 1.0)))),
-                              ("data", lambda k: view.mapper.SetInputData(
-                                  steps[(k + 1) % len(steps)]))):
+                              ("data", lambda k: view.set_input(steps[(k + 1) % len(steps)]))):
             times = []
             for k in range(changes):
                 last = time.perf_counter()
                 apply(k)
-                if oracle and change in ("opacity", "data"):
-                    oracle()
                 times.append(view.frame() + 1000.0 * (time.perf_counter() - last) -
                              view.last_frame_ms)
             rows[change] = times
@@ -230,7 +237,7 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
             if change == "step":
                 view.mapper.SetSampleDistance(scene.step_length(step))
             if change == "data":
-                view.mapper.SetInputData(scene.image)
+                view.set_input(scene.image)
             view.frame()
             view.refine(time.perf_counter())
         statistics_row = method.statistics(view.mapper)

@@ -158,6 +158,9 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   this->VolumeMapper->SetCropping(this->Cropping != 0);
   this->VolumeMapper->SetBlendMode(this->BlendMode);
   this->Superclass::UpdateMapperParameters();
+  // A batch process's frames are its results: they wait for their measured tables and oracle.
+  vtkProcessModule* module = vtkProcessModule::GetProcessModule();
+  const bool batch = module && module->GetProcessType() == vtkProcessModule::PROCESS_BATCH;
 
   if (auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -177,9 +180,6 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
       normals = nullptr;
     }
     mapper->SetNormalArrayName(normals);
-    // A batch process's frames are its results: they wait for their measured tables.
-    vtkProcessModule* module = vtkProcessModule::GetProcessModule();
-    const bool batch = module && module->GetProcessType() == vtkProcessModule::PROCESS_BATCH;
     mapper->SetRefineInBackground(this->RefineInBackground && !batch);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
@@ -207,6 +207,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     }
     this->Oracle->SetMode(this->OracleMode);
     this->Oracle->SetEpsilon(this->OracleEpsilon);
+    this->Oracle->SetRefineInBackground(this->RefineInBackground && !batch);
     // Distances capped at the data's diagonal, not at the filter's automatic 8 voxels: the
     // mappers clamp them to 2^l_max steps themselves, which can be more than 8 voxels (l_max
     // 4, or the pyramid's pixel-sized steps when zoomed out). The transform costs the same.
@@ -279,19 +280,36 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
 //------------------------------------------------------------------------------
 int vtkHovrVolumeRepresentation::GetRefinementState()
 {
-  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
-  if (!mapper || !mapper->GetRefining())
+  if (auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper))
+  {
+    if (!mapper->GetRefining())
+    {
+      return REFINEMENT_NONE;
+    }
+    return mapper->GetRefinementReady() ? REFINEMENT_READY : REFINEMENT_RUNNING;
+  }
+  // The adaptive mappers' oracle: ready distances mark the filter modified, so that the render
+  // the view then makes outputs them.
+  const bool adaptive = this->VolumeMapper == this->AdaptiveRayMapper ||
+    this->VolumeMapper == this->AdaptivePyramidMapper;
+  if (!adaptive || !this->Oracle->GetRefining())
   {
     return REFINEMENT_NONE;
   }
-  return mapper->GetRefinementReady() ? REFINEMENT_READY : REFINEMENT_RUNNING;
+  this->Oracle->CheckRefinement();
+  return this->Oracle->GetRefinementReady() ? REFINEMENT_READY : REFINEMENT_RUNNING;
 }
 
 //------------------------------------------------------------------------------
 double vtkHovrVolumeRepresentation::GetRefinementProgress()
 {
-  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
-  return mapper ? mapper->GetRefinementProgress() : 1.0;
+  if (auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper))
+  {
+    return mapper->GetRefinementProgress();
+  }
+  const bool adaptive = this->VolumeMapper == this->AdaptiveRayMapper ||
+    this->VolumeMapper == this->AdaptivePyramidMapper;
+  return adaptive ? this->Oracle->GetRefinementProgress() : 1.0;
 }
 
 //------------------------------------------------------------------------------

@@ -237,10 +237,12 @@ public:
 
   ///@{
   /**
-   * Pre-integration: draw each change at once with interim table sizes and measure the table
-   * in the background (vtkPreIntegrationVolumeMapper::SetRefineInBackground); the GUI turns it
-   * on, and re-renders when the measured table is ready (GetRefinementState). Ignored by
-   * pvbatch, whose frames always wait for their measured tables. Initial value is false.
+   * Draw each change at once and refine in the background: pre-integration with interim table
+   * sizes while the table is measured (vtkPreIntegrationVolumeMapper::SetRefineInBackground),
+   * adaptive sampling with the last oracle distances while the new ones are computed
+   * (vtkAdaptiveSamplingOracle::SetRefineInBackground). The GUI turns it on, and re-renders
+   * when the refined table or oracle is ready (GetRefinementState). Ignored by pvbatch, whose
+   * frames always wait for them. Initial value is false.
    */
   vtkSetMacro(RefineInBackground, bool);
   vtkGetMacro(RefineInBackground, bool);
@@ -254,7 +256,8 @@ public:
   };
 
   /**
-   * Where the background measurement of the current mapper stands (RefinementStates).
+   * Where the background measurement of the current mapper (or its oracle) stands
+   * (RefinementStates).
    */
   int GetRefinementState();
 
