@@ -14,7 +14,9 @@
  * The integral is evaluated with SubSamples pieces per table spacing crossed (midpoint rule,
  * exact for constant pieces), so the pieces' midpoints lie on one fixed grid of scalars where
  * the transfer function is evaluated once; a segment with s_f = s_b is exact. Built on the
- * CPU with vtkSMPTools, one row per task.
+ * CPU with vtkSMPTools, one scalar difference |j - i| per task: its entries are windows of the
+ * same number of pieces sliding over the pieces, each composited from two runs kept per piece
+ * (compositing is associative), so a table costs O(TableSize^2 SubSamples).
  */
 #ifndef vtkFirstOrderPreIntegrationTable_h
 #define vtkFirstOrderPreIntegrationTable_h
@@ -35,7 +37,7 @@ public:
   /**
    * Integration pieces per table spacing that the segment's scalar crosses; 0 chooses
    * max(1, min(4, 1024 / TableSize)), which keeps large tables quick to build (the cost grows
-   * as TableSize^3 SubSamples). Initial value is 0.
+   * as TableSize^2 SubSamples). Initial value is 0.
    */
   vtkSetClampMacro(SubSamples, int, 0, 256);
   vtkGetMacro(SubSamples, int);
