@@ -3,6 +3,7 @@
 
 #include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
+#include "pqProgressManager.h"
 #include "pqRepresentation.h"
 #include "pqServerManagerModel.h"
 #include "pqView.h"
@@ -226,7 +227,8 @@ void pqHovrVolumeBehavior::onViewRendered()
     return;
   }
   this->Refining.push_back(view);
-  this->ShowStatus(tr("hovr: refining the pre-integration table"));
+  this->ShowStatus(tr("hovr: refining in the background"));
+  this->ShowProgress(0);
   if (!this->Poll.isActive())
   {
     this->Poll.start();
@@ -264,21 +266,54 @@ void pqHovrVolumeBehavior::onPoll()
     if (state == 2)
     {
       // Its end re-enters onViewRendered, which polls again if another change is refining.
-      this->ShowStatus(tr("hovr: pre-integration table refined"));
+      this->ShowStatus(tr("hovr: refined"));
       view->render();
     }
     else if (state == 1)
     {
       still.push_back(view);
-      this->ShowStatus(tr("hovr: refining the pre-integration table (%1%)")
-                         .arg(static_cast<int>(100.0 * RefinementProgress(view))));
+      const int percent = static_cast<int>(100.0 * RefinementProgress(view));
+      this->ShowStatus(tr("hovr: refining in the background (%1%)").arg(percent));
+      this->ShowProgress(percent);
     }
   }
   this->Refining = still;
   if (this->Refining.isEmpty())
   {
     this->Poll.stop();
+    this->HideProgress();
   }
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::ShowProgress(int percent)
+{
+  pqProgressManager* manager = pqApplicationCore::instance()->getProgressManager();
+  if (!manager)
+  {
+    return;
+  }
+  if (!this->ProgressShown)
+  {
+    // An enabled progress bar blocks mouse and key input, which must go on while refining.
+    this->ProgressUnblocked = manager->unblockEvents(true);
+    manager->setEnableProgress(true);
+    this->ProgressShown = true;
+  }
+  manager->setProgress(tr("hovr: refining"), percent);
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::HideProgress()
+{
+  pqProgressManager* manager = pqApplicationCore::instance()->getProgressManager();
+  if (!manager || !this->ProgressShown)
+  {
+    return;
+  }
+  manager->setEnableProgress(false);
+  manager->unblockEvents(this->ProgressUnblocked);
+  this->ProgressShown = false;
 }
 
 //------------------------------------------------------------------------------

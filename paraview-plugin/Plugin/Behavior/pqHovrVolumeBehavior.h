@@ -17,8 +17,10 @@
  *     an edit is drawn at once with interim table sizes), and after each render of a view
  *     that draws interim tables the behaviour asks the representations, every 100 ms, where
  *     their measurement stands (HovrRefinementState) and renders the view again when a
- *     measured table waits; a label in the main window's status bar says so
- *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined).
+ *     measured table (or oracle) waits; a label in the main window's status bar says so
+ *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined), and
+ *     ParaView's progress bar shows how far it is, without blocking the user's input (the
+ *     work is in the background: the view stays interactive).
  */
 #ifndef pqHovrVolumeBehavior_h
 #define pqHovrVolumeBehavior_h
@@ -69,6 +71,11 @@ private:
   QVector<QPointer<pqView>> Refining;
   QTimer Poll;
   QPointer<QLabel> Status;
+  // Whether the progress bar is ours, and the progress manager's input blocking before.
+  bool ProgressShown = false;
+  bool ProgressUnblocked = false;
+  void ShowProgress(int percent);
+  void HideProgress();
   Q_DISABLE_COPY(pqHovrVolumeBehavior)
 };
 
