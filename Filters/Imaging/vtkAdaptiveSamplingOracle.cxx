@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -913,6 +914,8 @@ struct vtkAdaptiveSamplingOracle::vtkBackground
   vtkIdType Job = 0;
   std::vector<double> JobKey;
   bool JobChecked = false; // CheckRefinement saw it end
+  // When the last job was submitted (the rhythm of an interactive drag).
+  std::chrono::steady_clock::time_point LastSubmission;
   // The job's result, written by the worker, read after GetState says it ended.
   vtkSmartPointer<vtkDataArray> Result;
   bool ResultRanges = false;
@@ -1299,10 +1302,30 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
   vtkSmartPointer<vtkInformation> info = arrayInfo.GetPointer();
   b.JobKey = key;
   b.JobChecked = false;
+  // A drag of edits supersedes each job by the next: the job waits one and a half times the
+  // drag's rhythm (the time since the last update, when under a second) before it starts, so that its passes, which stream through
+  // the volume, do not slow the frames of the drag (low priority does not share memory
+  // bandwidth), and it starts soon after the drag pauses.
+  const auto now = std::chrono::steady_clock::now();
+  const double interval = b.Job != 0 || b.Interim
+    ? std::chrono::duration<double>(now - b.LastSubmission).count()
+    : -1.0;
+  b.LastSubmission = now;
+  // An update more than a second after the last is no drag: its job starts at once.
+  const double delay = interval > 0.0 && interval < 1.0 ? std::min(1.5 * interval, 1.0) : 0.0;
   vtkBackground* worker = &b;
-  b.Job = b.Worker.Submit([worker, settings, snapshot, opacity, info](
+  b.Job = b.Worker.Submit([worker, settings, snapshot, opacity, info, now, delay](
                             vtkIdType, const std::atomic<bool>& stop) {
     vtkBackground& w = *worker;
+    while (!stop &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - now).count() < delay)
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (stop)
+    {
+      return false;
+    }
     w.Stop = &stop;
     const bool done = w.Compute(settings, snapshot, opacity, info) && !stop;
     w.Stop = nullptr;

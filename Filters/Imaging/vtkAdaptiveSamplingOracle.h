@@ -71,7 +71,9 @@
  * opacity function, or steps through time, gets each update's output at once with the
  * distances it last output (when they are on the same grid, with the same settings), and the
  * new distances are computed in a worker thread of low priority (vtkBackgroundWorker,
- * vtkLowPriorityThreads), a newer update stopping an older computation. The stale distances
+ * vtkLowPriorityThreads), a newer update stopping an older computation; during a drag (updates
+ * less than a second apart) a computation waits one and a half times the time since the last
+ * update before it starts, so that it does not slow the drag's frames. The stale distances
  * may skip a feature the edit made: the renderer's frame is an interim one, and
  * CheckRefinement() (from the application's event loop) fires OracleRefinedEvent and marks the
  * filter modified when the new distances are ready, so that the next update outputs them.
