@@ -1,7 +1,9 @@
 """``hovr bench``: a small configuration gives the CSV, images, difference images, the plot
 and the summary; optional datasets whose data is missing are skipped with a message; the
-reference is cached between runs; a broken configuration is a clear error. ``hovr tables``
-builds small second-order tables on the CPU and the GPU and finds them equal."""
+reference is cached between runs; a broken configuration is a clear error. A small latency
+configuration gives a row per method and change, the refinement of the methods that answer
+first, and the first and refined frames' errors. ``hovr tables`` builds small second-order
+tables on the CPU and the GPU and finds them equal."""
 
 import csv
 import json
@@ -110,6 +112,39 @@ for method, message in (("preint1", "unknown setting(s) lmax of preint1"),
     code, stdout, stderr = run_cli("bench", broken, "--output", out, expect=2)
     c.check(message in stderr, "a setting %s lacks is an error (%s)" % (method,
                                                                        stderr.strip()[-200:]))
+
+# A latency configuration: every change of every method, beside stock's, with the refined
+# frame of those that answer first (pre-integration's table, adaptive sampling's oracle).
+latency = {
+    "kind": "latency", "size": [48, 40], "changes": 2, "step": 1, "reference_pixels": 0.5,
+    "methods": ["stock", "preint2", "adaptive-ray"],
+    "datasets": [{"name": "ml24", "input": "marschner-lobb:24",
+                  "tf": os.path.join(PRESETS, "transfer-functions", "marschner-lobb-spikes.json"),
+                  "tf_to_data_range": True, "opacity_unit_distance": 0.1}],
+}
+latency_path = os.path.join(tmp, "latency.json")
+with open(latency_path, "w") as stream:
+    json.dump(latency, stream)
+latency_out = os.path.join(tmp, "latency")
+run_cli("bench", latency_path, "--output", latency_out)
+with open(os.path.join(latency_out, "latency.csv")) as stream:
+    latency_rows = list(csv.DictReader(stream))
+changes = ("switch", "camera", "opacity", "colour", "step", "data")
+c.check(sorted((r["method"], r["change"]) for r in latency_rows) ==
+        sorted((m, k) for m in latency["methods"] for k in changes),
+        "latency: one row per method and change")
+for row in latency_rows:
+    c.check(float(row["median_ms"]) > 0 and float(row["bound_ratio"]) > 0,
+            "latency: %s %s has a time and a bound ratio" % (row["method"], row["change"]))
+    if row["change"] == "opacity":
+        first, refined = float(row["rmse_first"]), float(row["rmse_refined"])
+        c.check(0 < first < 0.5 and 0 < refined < 0.5,
+                "latency: %s's first and refined errors (%s, %s)" % (row["method"], first, refined))
+        if row["method"] != "stock":
+            c.check(row["refined_ms"] != "" and float(row["refined_ms"]) > 0,
+                    "latency: %s refines in the background after the opacity edits"
+                    % row["method"])
+c.check(os.path.isfile(os.path.join(latency_out, "summary.txt")), "latency: summary.txt")
 
 # hovr tables: CPU and GPU builds of small second-order tables agree; the CSV has every row.
 tables_csv = os.path.join(tmp, "tables.csv")
