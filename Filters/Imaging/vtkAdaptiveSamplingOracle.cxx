@@ -987,7 +987,9 @@ struct vtkAdaptiveSamplingOracle::vtkBackground
 
   // Computes the distances of snapshot for the settings and the given opacity, on the calling
   // thread; false when it failed or was stopped.
-  bool Compute(const Settings& owner, vtkImageData* snapshot, vtkPiecewiseFunction* opacity,
+  bool Compute(const Settings& owner,
+    vtkImageData* snapshot,
+    vtkPiecewiseFunction* opacity,
     vtkInformation* arrayInfo)
   {
     vtkAdaptiveSamplingOracle* c = this->Computer;
@@ -1188,15 +1190,22 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
   const double* spacing = input->GetSpacing();
   // What the distances depend on: the grid and settings (which interim distances must share),
   // the data, and the opacity function by content (ParaView sets it again unchanged).
-  std::vector<double> grid = { static_cast<double>(dims[0]), static_cast<double>(dims[1]),
-    static_cast<double>(dims[2]), spacing[0], spacing[1], spacing[2],
-    static_cast<double>(this->Mode), this->Epsilon,
-    static_cast<double>(this->AutomaticMaximumDistance), this->MaximumDistance,
+  std::vector<double> grid = { static_cast<double>(dims[0]),
+    static_cast<double>(dims[1]),
+    static_cast<double>(dims[2]),
+    spacing[0],
+    spacing[1],
+    spacing[2],
+    static_cast<double>(this->Mode),
+    this->Epsilon,
+    static_cast<double>(this->AutomaticMaximumDistance),
+    this->MaximumDistance,
     static_cast<double>(std::hash<std::string>()(this->OutputArrayName)) };
   std::vector<double> data = { static_cast<double>(reinterpret_cast<uintptr_t>(input)),
     static_cast<double>(input->GetMTime()),
     static_cast<double>(reinterpret_cast<uintptr_t>(scalars)),
-    static_cast<double>(scalars->GetMTime()), static_cast<double>(association) };
+    static_cast<double>(scalars->GetMTime()),
+    static_cast<double>(association) };
   std::vector<double> key = grid;
   key.insert(key.end(), data.begin(), data.end());
   if (this->Mode == OPACITY_GRADIENT || this->Mode == OPACITY_RANGE)
@@ -1215,7 +1224,8 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
     key.push_back(this->ScalarOpacity->GetUseLogScale());
   }
 
-  auto give = [&](vtkDataArray* distances) {
+  auto give = [&](vtkDataArray* distances)
+  {
     output->ShallowCopy(input);
     output->GetPointData()->AddArray(distances);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
@@ -1223,7 +1233,8 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
       output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
     }
   };
-  auto take = [&]() {
+  auto take = [&]()
+  {
     b.Shown = b.Result;
     b.ShownGrid = grid;
     b.ShownKey = key;
@@ -1271,8 +1282,11 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
   }
   vtkNew<vtkInformation> arrayInfo;
   arrayInfo->Copy(this->GetInputArrayInformation(0));
-  const vtkBackground::Settings settings = { this->Mode, this->Epsilon,
-    this->AutomaticMaximumDistance, this->MaximumDistance, this->OutputArrayName };
+  const vtkBackground::Settings settings = { this->Mode,
+    this->Epsilon,
+    this->AutomaticMaximumDistance,
+    this->MaximumDistance,
+    this->OutputArrayName };
   vtkSmartPointer<vtkPiecewiseFunction> opacity;
   if (this->ScalarOpacity)
   {
@@ -1303,34 +1317,35 @@ int vtkAdaptiveSamplingOracle::RequestDataInBackground(vtkImageData* input,
   b.JobKey = key;
   b.JobChecked = false;
   // A drag of edits supersedes each job by the next: the job waits one and a half times the
-  // drag's rhythm (the time since the last update, when under a second) before it starts, so that its passes, which stream through
-  // the volume, do not slow the frames of the drag (low priority does not share memory
-  // bandwidth), and it starts soon after the drag pauses.
+  // drag's rhythm (the time since the last update, when under a second) before it starts, so that
+  // its passes, which stream through the volume, do not slow the frames of the drag (low priority
+  // does not share memory bandwidth), and it starts soon after the drag pauses.
   const auto now = std::chrono::steady_clock::now();
-  const double interval = b.Job != 0 || b.Interim
-    ? std::chrono::duration<double>(now - b.LastSubmission).count()
-    : -1.0;
+  const double interval =
+    b.Job != 0 || b.Interim ? std::chrono::duration<double>(now - b.LastSubmission).count() : -1.0;
   b.LastSubmission = now;
   // An update more than a second after the last is no drag: its job starts at once.
   const double delay = interval > 0.0 && interval < 1.0 ? std::min(1.5 * interval, 1.0) : 0.0;
   vtkBackground* worker = &b;
-  b.Job = b.Worker.Submit([worker, settings, snapshot, opacity, info, now, delay](
-                            vtkIdType, const std::atomic<bool>& stop) {
-    vtkBackground& w = *worker;
-    while (!stop &&
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - now).count() < delay)
+  b.Job = b.Worker.Submit(
+    [worker, settings, snapshot, opacity, info, now, delay](
+      vtkIdType, const std::atomic<bool>& stop)
     {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    if (stop)
-    {
-      return false;
-    }
-    w.Stop = &stop;
-    const bool done = w.Compute(settings, snapshot, opacity, info) && !stop;
-    w.Stop = nullptr;
-    return done;
-  });
+      vtkBackground& w = *worker;
+      while (!stop &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - now).count() < delay)
+      {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      if (stop)
+      {
+        return false;
+      }
+      w.Stop = &stop;
+      const bool done = w.Compute(settings, snapshot, opacity, info) && !stop;
+      w.Stop = nullptr;
+      return done;
+    });
   if (b.Job == 0)
   {
     vtkErrorMacro("The worker thread could not start; the distances are computed here.");

@@ -93,7 +93,7 @@
 #define vtkAdaptiveSamplingOracle_h
 
 #include "hovrFiltersImagingModule.h" // For export macro
-#include "vtkCommand.h"                // For OracleRefinedEvent
+#include "vtkCommand.h"               // For OracleRefinedEvent
 #include "vtkImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr

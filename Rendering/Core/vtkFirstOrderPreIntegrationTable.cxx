@@ -64,8 +64,7 @@ void vtkFirstOrderPreIntegrationTable::BuildTable()
         double T;
       };
       // a in front of b.
-      auto over = [](const Run& a, const Run& b) -> Run
-      {
+      auto over = [](const Run& a, const Run& b) -> Run {
         return { { a.C[0] + a.T * b.C[0], a.C[1] + a.T * b.C[1], a.C[2] + a.T * b.C[2] },
           a.T * b.T };
       };

@@ -112,7 +112,8 @@ void ComputeBlockRanges(vtkDataArray* scalars,
             const int bk = static_cast<int>(b / (static_cast<vtkIdType>(blocks[0]) * blocks[1]));
             const int first[3] = { bi * size, bj * size, bk * size };
             const int last[3] = { std::min(first[0] + size, dims[0] - 1),
-              std::min(first[1] + size, dims[1] - 1), std::min(first[2] + size, dims[2] - 1) };
+              std::min(first[1] + size, dims[1] - 1),
+              std::min(first[2] + size, dims[2] - 1) };
             double low = inf, high = -inf;
             bool nan = false, found = false;
             for (int k = first[2]; k <= last[2]; ++k)
