@@ -267,6 +267,11 @@ void pqHovrVolumeBehavior::onPoll()
     {
       // Its end re-enters onViewRendered, which polls again if another change is refining.
       this->ShowStatus(tr("hovr: refined"));
+      ++this->RefinedFrames;
+      if (this->Status)
+      {
+        this->Status->setToolTip(tr("hovr: %1 refined frames drawn").arg(this->RefinedFrames));
+      }
       view->render();
     }
     else if (state == 1)

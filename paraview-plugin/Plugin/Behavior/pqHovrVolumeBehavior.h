@@ -18,7 +18,8 @@
  *     that draws interim tables the behaviour asks the representations, every 100 ms, where
  *     their measurement stands (HovrRefinementState) and renders the view again when a
  *     measured table (or oracle) waits; a label in the main window's status bar says so
- *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined), and
+ *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined; its
+ *     tool tip counts the refined frames drawn in the session), and
  *     ParaView's progress bar shows how far it is, without blocking the user's input (the
  *     work is in the background: the view stays interactive).
  */
@@ -71,6 +72,7 @@ private:
   QVector<QPointer<pqView>> Refining;
   QTimer Poll;
   QPointer<QLabel> Status;
+  int RefinedFrames = 0; // renders of refined tables or oracles, in the label's tool tip
   // Whether the progress bar is ours, and the progress manager's input blocking before.
   bool ProgressShown = false;
   bool ProgressUnblocked = false;
