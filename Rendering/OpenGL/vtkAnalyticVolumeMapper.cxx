@@ -1,7 +1,6 @@
 // hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 #include "vtkAnalyticVolumeMapper.h"
 
-#include "vtkArrayDispatch.h"
 #include "vtkCamera.h"
 #include "vtkCameraRayModel.h"
 #include "vtkContourValues.h"
@@ -26,6 +25,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeBrickLayout.h"
 #include "vtkVolumeProperty.h"
+#include "vtkVolumeScalarView.h"
 #include "vtk_glew.h"
 
 #include "hovrAnalytic.h"       // the GLSL of the analytic ray caster
@@ -60,26 +60,6 @@ bool IsAnalyticBlend(int blend)
 // may round the other way.
 // The points of a brick are points[0..1] x points[2..3] x points[4..5] of a volume of dims
 // points; blocks count from the brick's first point.
-// body(value), value(p) the first component of tuple p as a double: through the array's own
-// type where vtkArrayDispatch knows it (no virtual call per value), else GetComponent.
-struct ValuesWorker
-{
-  template <typename ArrayT, typename Body>
-  void operator()(ArrayT* array, Body& body)
-  {
-    body([array](vtkIdType p) { return static_cast<double>(array->GetTypedComponent(p, 0)); });
-  }
-};
-
-template <typename Body>
-void WithValues(vtkDataArray* scalars, Body&& body)
-{
-  if (!vtkArrayDispatch::Dispatch::Execute(scalars, ValuesWorker{}, body))
-  {
-    body([scalars](vtkIdType p) { return scalars->GetComponent(p, 0); });
-  }
-}
-
 void ComputeBlockRanges(vtkDataArray* scalars,
   const int volumeDims[3],
   const int points[6],
@@ -96,55 +76,62 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   std::vector<double> lo(static_cast<size_t>(blocks[0]) * blocks[1] * blocks[2], inf);
   std::vector<double> hi(lo.size(), -inf);
   std::vector<char> partial(lo.size(), 0);
-  WithValues(scalars,
-    [&](auto value)
-    {
-      // Each block reads its own points, those on its far faces included (a point on a block
-      // boundary belongs to the blocks on both sides), so blocks are independent tasks.
-      vtkSMPTools::For(0,
-        static_cast<vtkIdType>(lo.size()),
-        [&](vtkIdType begin, vtkIdType end)
+  // The values in place, converted as they are read; an array that must be copied and cannot
+  // be bounds nothing (every block's range is the whole line, which skips no block).
+  vtkVolumeScalarView value;
+  if (!value.SetArray(scalars))
+  {
+    std::fill(lo.begin(), lo.end(), -inf);
+    std::fill(hi.begin(), hi.end(), inf);
+  }
+  else
+  {
+    // Each block reads its own points, those on its far faces included (a point on a block
+    // boundary belongs to the blocks on both sides), so blocks are independent tasks.
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(lo.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType b = begin; b < end; ++b)
         {
-          for (vtkIdType b = begin; b < end; ++b)
+          const int bi = static_cast<int>(b % blocks[0]);
+          const int bj = static_cast<int>((b / blocks[0]) % blocks[1]);
+          const int bk = static_cast<int>(b / (static_cast<vtkIdType>(blocks[0]) * blocks[1]));
+          const int first[3] = { bi * size, bj * size, bk * size };
+          const int last[3] = { std::min(first[0] + size, dims[0] - 1),
+            std::min(first[1] + size, dims[1] - 1),
+            std::min(first[2] + size, dims[2] - 1) };
+          double low = inf, high = -inf;
+          bool nan = false, found = false;
+          for (int k = first[2]; k <= last[2]; ++k)
           {
-            const int bi = static_cast<int>(b % blocks[0]);
-            const int bj = static_cast<int>((b / blocks[0]) % blocks[1]);
-            const int bk = static_cast<int>(b / (static_cast<vtkIdType>(blocks[0]) * blocks[1]));
-            const int first[3] = { bi * size, bj * size, bk * size };
-            const int last[3] = { std::min(first[0] + size, dims[0] - 1),
-              std::min(first[1] + size, dims[1] - 1),
-              std::min(first[2] + size, dims[2] - 1) };
-            double low = inf, high = -inf;
-            bool nan = false, found = false;
-            for (int k = first[2]; k <= last[2]; ++k)
+            for (int j = first[1]; j <= last[1]; ++j)
             {
-              for (int j = first[1]; j <= last[1]; ++j)
+              const vtkIdType row = points[0] +
+                static_cast<vtkIdType>(volumeDims[0]) *
+                  (points[2] + j + static_cast<vtkIdType>(volumeDims[1]) * (points[4] + k));
+              for (int i = first[0]; i <= last[0]; ++i)
               {
-                const vtkIdType row = points[0] +
-                  static_cast<vtkIdType>(volumeDims[0]) *
-                    (points[2] + j + static_cast<vtkIdType>(volumeDims[1]) * (points[4] + k));
-                for (int i = first[0]; i <= last[0]; ++i)
+                const double v = value[row + i];
+                if (std::isnan(v))
                 {
-                  const double v = value(row + i);
-                  if (std::isnan(v))
-                  {
-                    nan = true;
-                    continue;
-                  }
-                  found = true;
-                  low = std::min(low, v);
-                  high = std::max(high, v);
+                  nan = true;
+                  continue;
                 }
+                found = true;
+                low = std::min(low, v);
+                high = std::max(high, v);
               }
             }
-            // The raw texture values, (v - shift) / scale, keep the order when scale > 0.
-            const double a = (low - shift) / scale, c = (high - shift) / scale;
-            lo[b] = found ? std::min(a, c) : inf;
-            hi[b] = found ? std::max(a, c) : -inf;
-            partial[b] = nan ? 1 : 0;
           }
-        });
-    });
+          // (v - shift) / scale is monotonic: the ends map to the raw range's ends.
+          const double a = (low - shift) / scale, c = (high - shift) / scale;
+          lo[b] = found ? std::min(a, c) : inf;
+          hi[b] = found ? std::max(a, c) : -inf;
+          partial[b] = nan ? 1 : 0;
+        }
+      });
+  }
   ranges.resize(2 * lo.size());
   for (size_t b = 0; b < lo.size(); ++b)
   {
@@ -174,29 +161,32 @@ void PackCorners(vtkDataArray* scalars,
   const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
   const size_t slice = static_cast<size_t>(w - 1) * (h - 1) * 4;
   out.resize(slice * (points[5] - points[4] + 1));
-  WithValues(scalars,
-    [&](auto value)
+  // The values in place, converted as they are read (a copy that does not fit is the caller's
+  // out-of-memory case).
+  vtkVolumeScalarView value;
+  if (!value.SetArray(scalars))
+  {
+    throw std::bad_alloc();
+  }
+  vtkSMPTools::For(points[4],
+    points[5] + 1,
+    [&](vtkIdType kBegin, vtkIdType kEnd)
     {
-      vtkSMPTools::For(points[4],
-        points[5] + 1,
-        [&](vtkIdType kBegin, vtkIdType kEnd)
+      for (vtkIdType k = kBegin; k < kEnd; ++k)
+      {
+        T* texel = out.data() + slice * static_cast<size_t>(k - points[4]);
+        for (vtkIdType j = points[2]; j < points[3]; ++j)
         {
-          for (vtkIdType k = kBegin; k < kEnd; ++k)
+          const vtkIdType row = nx * (j + ny * k);
+          for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
           {
-            T* texel = out.data() + slice * static_cast<size_t>(k - points[4]);
-            for (vtkIdType j = points[2]; j < points[3]; ++j)
-            {
-              const vtkIdType row = nx * (j + ny * k);
-              for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
-              {
-                texel[0] = convert(value(row + i));
-                texel[1] = convert(value(row + i + 1));
-                texel[2] = convert(value(row + nx + i));
-                texel[3] = convert(value(row + nx + i + 1));
-              }
-            }
+            texel[0] = convert(value[row + i]);
+            texel[1] = convert(value[row + i + 1]);
+            texel[2] = convert(value[row + nx + i]);
+            texel[3] = convert(value[row + nx + i + 1]);
           }
-        });
+        }
+      }
     });
 }
 }
