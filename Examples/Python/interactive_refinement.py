@@ -6,6 +6,11 @@ last edit; the mapper watches the worker from the interactor's timers (WatchRefi
 fires TablesRefinedEvent when the measured table is ready, and the observer below renders
 again to draw it.
 
+With --method adaptive-ray, a vtkAdaptiveRayVolumeMapper draws through a
+vtkAdaptiveSamplingOracle with RefineInBackground: every edit is drawn at once with the last
+oracle distances while a worker computes those of the last edit; the timer below calls the
+oracle's CheckRefinement, which fires OracleRefinedEvent when they are ready.
+
 The edits here come from a timer, as a user's drag would: 20 of them, 100 ms apart, each
 moving an opacity spike's peak. Run it with a display to watch (close the window to quit), or
 with --offscreen to print the timings and quit after the refined frame:
@@ -28,7 +33,9 @@ import hovr
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("--points", type=int, default=128, help="Marschner-Lobb points a side")
-parser.add_argument("--order", type=int, choices=(1, 2), default=2)
+parser.add_argument("--order", type=int, choices=(1, 2), default=2,
+                    help="pre-integration order (--method preint)")
+parser.add_argument("--method", choices=("preint", "adaptive-ray"), default="preint")
 parser.add_argument("--edits", type=int, default=20)
 parser.add_argument("--offscreen", action="store_true", help="quit after the refined frame")
 args = parser.parse_args()
@@ -52,11 +59,25 @@ prop.SetScalarOpacity(opacity)
 prop.SetColor(color)
 prop.SetInterpolationTypeToLinear()
 
-mapper = hovr.vtkPreIntegrationVolumeMapper()
-mapper.SetIntegration(args.order)
-mapper.SetInputData(image)
+if args.method == "preint":
+    mapper = hovr.vtkPreIntegrationVolumeMapper()
+    mapper.SetIntegration(args.order)
+    mapper.SetInputData(image)
+    mapper.SetRefineInBackground(True)
+    refiner, refined_event = mapper, mapper.TablesRefinedEvent
+else:
+    # The oracle in the pipeline, its distances capped at the volume's diagonal (the mapper
+    # clamps them to its own largest step).
+    oracle = hovr.vtkAdaptiveSamplingOracle()
+    oracle.SetInputData(image)
+    oracle.SetScalarOpacity(opacity)
+    oracle.AutomaticMaximumDistanceOff()
+    oracle.SetMaximumDistance(image.GetLength())
+    oracle.SetRefineInBackground(True)
+    mapper = hovr.vtkAdaptiveRayVolumeMapper()
+    mapper.SetInputConnection(oracle.GetOutputPort())
+    refiner, refined_event = oracle, oracle.OracleRefinedEvent
 mapper.SetSampleDistance(image.GetSpacing()[0])
-mapper.SetRefineInBackground(True)
 volume = vtkVolume()
 volume.SetMapper(mapper)
 volume.SetProperty(prop)
@@ -87,10 +108,13 @@ def on_refined(*_):
     seconds = render()
     if state["last_edit"] is not None and state["edits"] == args.edits:
         state["refined_after"] = time.perf_counter() - state["last_edit"]
-        table = mapper.GetActiveTable()
-        print("refined frame %.3f s after the last edit (drawn in %.3f s); table %dx%dx%d" % (
-            state["refined_after"], seconds, table.GetTableSize(), table.GetChordSize(),
-            table.GetDeviationSize()))
+        what = "oracle"
+        if args.method == "preint":
+            table = mapper.GetActiveTable()
+            what = "table %dx%dx%d" % (table.GetTableSize(), table.GetChordSize(),
+                                       table.GetDeviationSize())
+        print("refined frame %.3f s after the last edit (drawn in %.3f s); %s" % (
+            state["refined_after"], seconds, what))
         if args.offscreen:
             interactor.TerminateApp()
 
@@ -98,6 +122,8 @@ def on_refined(*_):
 def on_timer(_obj, _event):
     """One edit of the drag, drawn at once (the timer stays: VTK's X interactor must not
     have a timer destroyed from its own callback)."""
+    if args.method != "preint":
+        refiner.CheckRefinement()  # the mapper watches its own tables (WatchRefinement)
     if state["edits"] >= args.edits:
         return
     k = state["edits"]
@@ -108,14 +134,15 @@ def on_timer(_obj, _event):
     if state["edits"] == args.edits:
         frames = sorted(state["frames"])
         print("drag: %d edits drawn at once, median %.3f s, longest %.3f s per frame; refining: "
-              "%s" % (args.edits, frames[len(frames) // 2], frames[-1], mapper.GetRefining()))
+              "%s" % (args.edits, frames[len(frames) // 2], frames[-1], refiner.GetRefining()))
 
 
-mapper.AddObserver(mapper.TablesRefinedEvent, on_refined)
-mapper.WatchRefinement(interactor)
+refiner.AddObserver(refined_event, on_refined)
+if args.method == "preint":
+    mapper.WatchRefinement(interactor)
 interactor.AddObserver("TimerEvent", on_timer)
-print("first frame %.3f s (interim table: %s)" % (render(), mapper.GetRefining()))
-mapper.WaitForRefinement()
+print("first frame %.3f s (interim: %s)" % (render(), refiner.GetRefining()))
+refiner.WaitForRefinement()
 print("first refined frame %.3f s" % render())
 start = time.perf_counter()
 renderer.GetActiveCamera().Azimuth(5)

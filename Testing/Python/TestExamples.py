@@ -102,4 +102,19 @@ c.check(re.search(r"drag: 10 edits drawn at once, .*refining: True", process.std
         "interactive refinement: the last edit of the drag is drawn with an interim table")
 c.check(re.search(r"refined frame [0-9.]+ s after the last edit", process.stdout) is not None,
         "interactive refinement: TablesRefinedEvent brings the refined frame")
+# The same drag with adaptive sampling: the oracle answers first and refines after.
+process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                       "interactive_refinement.py"),
+                          "--offscreen", "--points", "64", "--edits", "10",
+                          "--method", "adaptive-ray"],
+                         capture_output=True, text=True, timeout=300)
+print("interactive refinement, adaptive-ray", process.stdout.strip())
+c.check(process.returncode == 0, "interactive refinement (adaptive-ray) exits 0 (%s)"
+        % process.stderr.strip())
+c.check(re.search(r"drag: 10 edits drawn at once, .*refining: True", process.stdout) is not None,
+        "interactive refinement (adaptive-ray): the drag's last edit is drawn with the last "
+        "oracle distances")
+c.check(re.search(r"refined frame [0-9.]+ s after the last edit .*; oracle", process.stdout)
+        is not None, "interactive refinement (adaptive-ray): OracleRefinedEvent brings the "
+        "refined frame")
 c.finish()
