@@ -75,6 +75,11 @@ struct Job
   int DeviationLimit = 1;
   bool BuildEntries = true;
   bool LowPriority = true;
+  // A provisional table first, of the request's table's sizes, ranges and prefilter.
+  bool Provisional = false;
+  int KeptSizes[3] = { 2, 1, 1 };
+  double KeptRanges[2] = { 0.0, 0.0 };
+  bool KeptPrefilter = false;
   const std::atomic<bool>* Stopped = nullptr; // the worker's stop flag, while it runs
   vtkNew<vtkPreIntegrationTableSizer> Settings;
 };
@@ -88,6 +93,10 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
   vtkIdType ResultId = 0;
   bool ResultFailed = false;
   vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Result;
+  // Whether Result is provisional, and whether the final result is the provisional table
+  // already taken (nothing to give but the end of the request).
+  bool ResultProvisional = false;
+  bool ResultSame = false;
   Snapshot<vtkColorTransferFunction> Color;
   Snapshot<vtkPiecewiseFunction> Gray;
   Snapshot<vtkPiecewiseFunction> Opacity;
@@ -130,8 +139,8 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
       std::lock_guard<std::mutex> lock(this->Mutex);
       this->JobError.clear();
     }
-    bool stopped = false;
-    vtkSmartPointer<vtkSecondOrderPreIntegrationTable> built = this->Work(job, stopped);
+    bool stopped = false, same = false;
+    vtkSmartPointer<vtkSecondOrderPreIntegrationTable> built = this->Work(job, stopped, same);
     std::lock_guard<std::mutex> lock(this->Mutex);
     this->Building = nullptr;
     if (stopped || stop)
@@ -141,7 +150,19 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     this->ResultId = job.Id;
     this->ResultFailed = !built;
     this->ResultError = built ? std::string() : this->JobError;
-    this->Result = built;
+    if (same && this->Result && this->ResultProvisional)
+    {
+      this->ResultProvisional = false; // not taken yet: the provisional table is the result
+    }
+    else if (same)
+    {
+      this->ResultSame = true; // taken: the table has it already
+    }
+    else
+    {
+      this->Result = built;
+      this->ResultProvisional = false;
+    }
     if (built)
     {
       this->Statistics->CopyStatistics(this->Sizer);
@@ -150,8 +171,9 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
   }
 
   // Chooses the sizes and builds the table of a job; null on failure, or when stopped (then
-  // `stopped` is set).
-  vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Work(const Job& job, bool& stopped)
+  // `stopped` is set). With a provisional table given first, `same` tells that the sizes chosen
+  // are its own (the table returned is then that table).
+  vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Work(const Job& job, bool& stopped, bool& same)
   {
     vtkVolumeTransferFunctionSampler* sampler = this->Measured->GetSampler();
     sampler->SetColor(job.Color);
@@ -168,11 +190,55 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     measured->SetSlabMoments(job.SlabMoments);
     this->Sizer->SetLowPriority(job.LowPriority);
     this->Sizer->CopySettings(job.Settings);
+    vtkSmartPointer<vtkSecondOrderPreIntegrationTable> provisional;
+    if (job.Provisional && job.BuildEntries)
+    {
+      const double ranges[2] = { job.KeptRanges[0], job.KeptRanges[1] };
+      provisional = this->Build(job, job.KeptSizes, ranges, job.KeptPrefilter, stopped);
+      if (!provisional)
+      {
+        return nullptr;
+      }
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      if (job.Stopped && *job.Stopped)
+      {
+        stopped = true;
+        return nullptr;
+      }
+      this->Building = nullptr;
+      this->ResultId = job.Id;
+      this->ResultFailed = false;
+      this->Result = provisional;
+      this->ResultProvisional = true;
+    }
     if (!this->Sizer->Choose(job.Volume, job.Scalars, measured, job.Order, job.SampleDistance))
     {
       stopped = this->Sizer->GetAborted();
       return nullptr;
     }
+    const int sizes[3] = { measured->GetTableSize(),
+      measured->GetChordSize(),
+      std::min(measured->GetDeviationSize(), std::max(job.DeviationLimit, 1)) };
+    const double ranges[2] = { measured->GetChordRange(), measured->GetDeviationRange() };
+    if (provisional && std::equal(sizes, sizes + 3, job.KeptSizes) &&
+      ranges[0] == job.KeptRanges[0] && ranges[1] == job.KeptRanges[1] &&
+      measured->GetPrefilter() == job.KeptPrefilter)
+    {
+      same = true;
+      return provisional;
+    }
+    return this->Build(job, sizes, ranges, measured->GetPrefilter(), stopped);
+  }
+
+  // The table of a job at the given sizes, chord and deviation ranges and prefilter, its entries
+  // built on the CPU when the job asks for them; null on failure or when stopped.
+  vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Build(const Job& job,
+    const int sizes[3],
+    const double ranges[2],
+    bool prefilter,
+    bool& stopped)
+  {
+    vtkVolumeTransferFunctionSampler* sampler = this->Measured->GetSampler();
     auto table = vtkSmartPointer<vtkSecondOrderPreIntegrationTable>::New();
     table->AddObserver(vtkCommand::ErrorEvent, this->ErrorCatcher);
     vtkVolumeTransferFunctionSampler* own = table->GetSampler();
@@ -180,15 +246,14 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     table->SetScalarRange(job.Range[0], job.Range[1]);
     table->SetSegmentLength(job.SegmentLength);
     table->SetIterations(job.Iterations);
-    table->SetPrefilter(measured->GetPrefilter());
+    table->SetPrefilter(prefilter);
     table->SetMoments(job.Moments);
     table->SetSlabMoments(job.SlabMoments);
-    table->SetTableSize(measured->GetTableSize());
-    table->SetChordSize(measured->GetChordSize());
-    table->SetChordRange(measured->GetChordRange());
-    table->SetDeviationSize(
-      std::min(measured->GetDeviationSize(), std::max(job.DeviationLimit, 1)));
-    table->SetDeviationRange(measured->GetDeviationRange());
+    table->SetTableSize(sizes[0]);
+    table->SetChordSize(sizes[1]);
+    table->SetChordRange(ranges[0]);
+    table->SetDeviationSize(sizes[2]);
+    table->SetDeviationRange(ranges[1]);
     table->SetComputeEntries(job.BuildEntries);
     table->SetLowPriority(job.LowPriority);
     if (job.BuildEntries)
@@ -235,7 +300,8 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
   int order,
   double sampleDistance,
   int deviationLimit,
-  bool buildEntries)
+  bool buildEntries,
+  bool provisional)
 {
   if (!volume || !scalars || !table || (order != 1 && order != 2))
   {
@@ -254,7 +320,16 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
     job->Opacity = I.Opacity.Of(sampler->GetScalarOpacity());
     I.Result = nullptr;
     I.ResultId = 0;
+    I.ResultProvisional = false;
+    I.ResultSame = false;
   }
+  job->Provisional = provisional && buildEntries;
+  job->KeptSizes[0] = table->GetTableSize();
+  job->KeptSizes[1] = table->GetChordSize();
+  job->KeptSizes[2] = std::min(table->GetDeviationSize(), std::max(deviationLimit, 1));
+  job->KeptRanges[0] = table->GetChordRange();
+  job->KeptRanges[1] = table->GetDeviationRange();
+  job->KeptPrefilter = table->GetPrefilter();
   job->UnitDistance = sampler->GetScalarOpacityUnitDistance();
   job->MaximumOpacity = sampler->GetMaximumOpacity();
   table->GetScalarRange(job->Range);
@@ -307,6 +382,8 @@ void vtkPreIntegrationTableRefiner::Cancel()
   std::lock_guard<std::mutex> lock(I.Mutex);
   I.Result = nullptr;
   I.ResultId = 0;
+  I.ResultProvisional = false;
+  I.ResultSame = false;
 }
 
 //------------------------------------------------------------------------------
@@ -335,7 +412,15 @@ bool vtkPreIntegrationTableRefiner::IsReady(vtkIdType request)
 {
   vtkInternals& I = *this->Internals;
   std::lock_guard<std::mutex> lock(I.Mutex);
-  return request > 0 && I.ResultId == request && I.Result;
+  return request > 0 && I.ResultId == request && (I.Result || I.ResultSame);
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableRefiner::IsProvisional(vtkIdType request)
+{
+  vtkInternals& I = *this->Internals;
+  std::lock_guard<std::mutex> lock(I.Mutex);
+  return request > 0 && I.ResultId == request && I.Result && I.ResultProvisional;
 }
 
 //------------------------------------------------------------------------------
@@ -354,9 +439,14 @@ bool vtkPreIntegrationTableRefiner::TakeResult(vtkIdType request,
   vtkSmartPointer<vtkSecondOrderPreIntegrationTable> result;
   {
     std::lock_guard<std::mutex> lock(I.Mutex);
-    if (!table || request <= 0 || I.ResultId != request || !I.Result)
+    if (!table || request <= 0 || I.ResultId != request || !(I.Result || I.ResultSame))
     {
       return false;
+    }
+    if (I.ResultSame)
+    {
+      I.ResultSame = false; // the provisional table, already given, is the measured one
+      return true;
     }
     result = I.Result;
     I.Result = nullptr;

@@ -74,8 +74,10 @@ public:
    * Ask for the table like `table` (its transfer functions, scalar range, segment length,
    * iterations, prefilter and moment layers) with sizes measured for the scalars of volume
    * at this order (1 or 2) and sample distance, its deviation axis at most deviationLimit
-   * entries, built on the CPU when buildEntries. Stops earlier requests. Returns the request's
-   * number (positive), or 0 after an error (bad arguments, or the worker could not start).
+   * entries, built on the CPU when buildEntries. With provisional (and buildEntries), a table
+   * of table's present sizes, ranges and prefilter is built first and given as a provisional
+   * result (IsProvisional). Stops earlier requests. Returns the request's number (positive),
+   * or 0 after an error (bad arguments, or the worker could not start).
    */
   vtkIdType Request(vtkImageData* volume,
     vtkDataArray* scalars,
@@ -83,7 +85,8 @@ public:
     int order,
     double sampleDistance,
     int deviationLimit,
-    bool buildEntries);
+    bool buildEntries,
+    bool provisional = false);
 
   /**
    * Stop the current request and drop any result.
@@ -96,9 +99,20 @@ public:
   bool IsBusy();
 
   /**
-   * Whether the result of request `request` waits (it is the newest, done and not taken).
+   * Whether a result of request `request` waits (it is the newest, and not taken): its
+   * provisional table, or its measured one.
    */
   bool IsReady(vtkIdType request);
+
+  /**
+   * Whether the result of request `request` that waits is provisional: with `provisional` set,
+   * a request whose table's sizes were measured before first builds a table of those sizes
+   * for the new transfer functions, data or step (what a small edit most often measures again),
+   * gives it as a provisional result, and then measures. When the measured sizes are the same,
+   * its final result is that table again (TakeResult then changes nothing); otherwise it is the
+   * measured table. Only with buildEntries.
+   */
+  bool IsProvisional(vtkIdType request);
 
   /**
    * Give the result of request `request` to table: its sizes, ranges and prefilter, and its

@@ -48,11 +48,19 @@ void vtkPreIntegrationTableSizing::Reset()
 //------------------------------------------------------------------------------
 void vtkPreIntegrationTableSizing::MarkMeasured(vtkSecondOrderPreIntegrationTable* table)
 {
-  if (std::find(this->MeasuredTables.begin(), this->MeasuredTables.end(), table) ==
-    this->MeasuredTables.end())
+  const auto found = std::find(this->MeasuredTables.begin(), this->MeasuredTables.end(), table);
+  const size_t index = static_cast<size_t>(found - this->MeasuredTables.begin());
+  if (found == this->MeasuredTables.end())
   {
     this->MeasuredTables.push_back(table);
+    this->MeasuredSizes.emplace_back();
   }
+  this->MeasuredSizes[index] = { static_cast<double>(table->GetTableSize()),
+    static_cast<double>(table->GetChordSize()),
+    table->GetChordRange(),
+    static_cast<double>(table->GetDeviationSize()),
+    table->GetDeviationRange(),
+    table->GetPrefilter() ? 1.0 : 0.0 };
 }
 
 //------------------------------------------------------------------------------
@@ -128,8 +136,15 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     {
       return true;
     }
+    const bool provisional = this->Refiner->IsProvisional(this->Request);
     if (this->Refiner->TakeResult(this->Request, table))
     {
+      if (provisional)
+      {
+        // The last measured sizes, built for this change: drawn until the measurement ends.
+        ++this->NumberOfProvisionalTables;
+        return true;
+      }
       this->Refiner->GetLastSizer(this->Sizer);
       this->Interim = false;
       this->MeasuredSize = table->GetTableSize();
@@ -176,8 +191,29 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
   }
 
   this->Refiner->GetSizerSettings()->CopySettings(this->Sizer);
-  this->Request = this->Refiner->Request(
-    volume, scalars, table, order, sampleDistance, deviationLimit, buildEntries);
+  // Sizes measured before are built first, as a provisional table: a small edit most often
+  // measures them again, and the measurement takes longer than their build. The table may
+  // hold interim sizes (a drag): the request takes its last measured ones.
+  const auto found = std::find(this->MeasuredTables.begin(), this->MeasuredTables.end(), table);
+  const bool measured = found != this->MeasuredTables.end();
+  if (measured && this->ProvisionalTables)
+  {
+    const std::vector<double>& last = this->MeasuredSizes[found - this->MeasuredTables.begin()];
+    table->SetTableSize(static_cast<int>(last[0]));
+    table->SetChordSize(static_cast<int>(last[1]));
+    table->SetChordRange(last[2]);
+    table->SetDeviationSize(static_cast<int>(last[3]));
+    table->SetDeviationRange(last[4]);
+    table->SetPrefilter(last[5] != 0.0);
+  }
+  this->Request = this->Refiner->Request(volume,
+    scalars,
+    table,
+    order,
+    sampleDistance,
+    deviationLimit,
+    buildEntries,
+    measured && this->ProvisionalTables);
   if (this->Request <= 0)
   {
     this->Key.clear();
@@ -391,5 +427,7 @@ void vtkPreIntegrationTableSizing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
   os << indent << "InterimEntries: " << this->InterimEntries << "\n";
   os << indent << "NumberOfInterimTables: " << this->NumberOfInterimTables << "\n";
+  os << indent << "ProvisionalTables: " << this->ProvisionalTables << "\n";
+  os << indent << "NumberOfProvisionalTables: " << this->NumberOfProvisionalTables << "\n";
   os << indent << "Interim: " << this->Interim << "\n";
 }

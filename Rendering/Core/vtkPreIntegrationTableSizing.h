@@ -15,10 +15,13 @@
  *     measured for the same order (a new transfer function, time step or sample distance keeps
  *     the last measured sizes and ranges), else TableSize 129 (first order; 65 for second
  *     order) over every chord and deviation; either is cut to at most InterimEntries entries
- *     by halving its axes, so that it builds in a few milliseconds. IsRefinementReady() tells
- *     when the measured table waits, and the next Update() with the same key gives it to the
- *     table (sizes and entries). A failed measurement is reported once and the interim table
- *     stays.
+ *     by halving its axes, so that it builds in a few milliseconds. With ProvisionalTables,
+ *     a table measured before is first built at its full measured sizes in the worker, and
+ *     given as a provisional table before the measurement ends (a small edit most often
+ *     measures the same sizes again). IsRefinementReady() tells when the provisional or the
+ *     measured table waits, and the next Update() with the same key gives it to the table
+ *     (sizes and entries); the measured one equal to the provisional one changes nothing. A
+ *     failed measurement is reported once and the interim table stays.
  * GetSizer() holds the sizer settings both ways use, and the statistics of the last measured
  * sizes in use (after a background measurement, copied from the worker's sizer).
  *
@@ -54,6 +57,17 @@ public:
   vtkSetMacro(RefineInBackground, bool);
   vtkGetMacro(RefineInBackground, bool);
   vtkBooleanMacro(RefineInBackground, bool);
+  ///@}
+
+  ///@{
+  /**
+   * With RefineInBackground, build a table measured before at its full measured sizes in the
+   * worker first, and give it before the measurement ends (see the class description).
+   * Initial value is true.
+   */
+  vtkSetMacro(ProvisionalTables, bool);
+  vtkGetMacro(ProvisionalTables, bool);
+  vtkBooleanMacro(ProvisionalTables, bool);
   ///@}
 
   ///@{
@@ -143,9 +157,11 @@ public:
   void WaitForRefinement();
 
   /**
-   * Interim tables drawn so far (frames that answered a change before its measurement).
+   * Interim tables drawn so far (frames that answered a change before its measurement), and
+   * provisional tables given so far (see ProvisionalTables).
    */
   vtkGetMacro(NumberOfInterimTables, int);
+  vtkGetMacro(NumberOfProvisionalTables, int);
 
   ///@{
   /**
@@ -187,6 +203,8 @@ protected:
   bool RefineInBackground = false;
   double InterimEntries = 131072.0;
   int NumberOfInterimTables = 0;
+  bool ProvisionalTables = true;
+  int NumberOfProvisionalTables = 0;
   vtkPreIntegrationTableSizer* Sizer;
   vtkPreIntegrationTableRefiner* Refiner;
   std::vector<double> Key;     // what the table's sizes are for, the data aside
@@ -210,6 +228,9 @@ protected:
   vtkIdType Request = 0; // the background request for Key
   // The tables whose sizes were measured once (the interim sizes keep them).
   std::vector<const void*> MeasuredTables;
+  // Their last measured TableSize, ChordSize, ChordRange, DeviationSize, DeviationRange and
+  // prefilter (a provisional table's sizes).
+  std::vector<std::vector<double>> MeasuredSizes;
 
 private:
   vtkPreIntegrationTableSizing(const vtkPreIntegrationTableSizing&) = delete;

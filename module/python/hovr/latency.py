@@ -34,9 +34,11 @@ use; batch use waits for every measured table). For every dataset and method, in
   application does, with RefineInBackground on: an opacity edit or a new time step is drawn at
   once with the last distances, and the new ones are computed in the background (the refined
   frame waits for them);
-- for ``opacity``, the refined frame's error and the first frame's after the last edit
-  (RMSE of premultiplied RGBA against the reference on the sampled pixels), and
-  ``refined_ms``, the time from the last edit until the refined frame is drawn.
+- for ``opacity``, the error of the first frame after the last edit, of the first refined
+  frame (a pre-integration mapper's provisional table: its last measured sizes built for the
+  edit) and of the last refined one (RMSE of premultiplied RGBA against the reference on the
+  sampled pixels); for every change ``first_refined_ms`` and ``refined_ms``, the time from
+  the last change until the first and the last refined frames are drawn.
 
 Each row holds the median and largest time, stock's median for the same change (VTK's own
 mapper in the dataset's blend mode: ``stock``, ``iso-stock``, ``mip-stock``), the method's own
@@ -58,7 +60,8 @@ from . import methods as hm
 from .io import HovrError
 
 LATENCY_FIELDS = ["dataset", "method", "change", "median_ms", "max_ms", "stock_ms",
-                  "camera_ms", "bound_ratio", "refined_ms", "rmse_first", "rmse_refined",
+                  "camera_ms", "bound_ratio", "first_refined_ms", "refined_ms", "rmse_first",
+                  "rmse_first_refined", "rmse_refined",
                   "table_size", "refinements"]
 
 CHANGES = ("switch", "camera", "opacity", "colour", "step", "data")
@@ -145,18 +148,31 @@ class View:
         return ((hasattr(self.mapper, "GetRefining") and self.mapper.GetRefining()) or
                 (self.oracle is not None and self.oracle.GetRefining()))
 
-    def refine(self, since):
-        """Wait for the refined table (or oracle) and draw it; ms from ``since``
-        (perf_counter seconds) until it is drawn, or None when nothing was refining."""
+    def ready(self):
+        """Whether a refined table (provisional or measured) or oracle waits for a frame."""
+        return ((hasattr(self.mapper, "GetRefinementReady") and
+                 self.mapper.GetRefinementReady()) or
+                (self.oracle is not None and self.oracle.GetRefining() and
+                 (self.oracle.CheckRefinement() or self.oracle.GetRefinementReady())))
+
+    def refine(self, since, capture=False):
+        """Draw each refined frame as it becomes ready until nothing refines: (ms from
+        ``since`` (perf_counter seconds) until the first refined frame is drawn, ms until the
+        last, the first refined frame's image when ``capture``), or Nones when nothing was
+        refining. The first is a pre-integration mapper's provisional table (its last measured
+        sizes built for the change) when it has one, else the measured table or oracle."""
         if not self.refining():
-            return None
+            return None, None, None
+        first = first_image = None
         while self.refining():
-            if self.oracle is not None:
-                self.oracle.WaitForRefinement()
-            if hasattr(self.mapper, "WaitForRefinement"):
-                self.mapper.WaitForRefinement()
+            if not self.ready():
+                time.sleep(0.002)
+                continue
             self.frame()
-        return 1000.0 * (time.perf_counter() - since)
+            if first is None:
+                first = 1000.0 * (time.perf_counter() - since)
+                first_image = self.image() if capture else None
+        return first, 1000.0 * (time.perf_counter() - since), first_image
 
     def image(self):
         image = vtkImageData()
@@ -214,7 +230,7 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
             view.renderer.GetActiveCamera().Azimuth(2.0 if k % 2 == 0 else -2.0)
             camera.append(view.frame())
         rows["camera"] = camera
-        first = refined = None
+        first = refined = provisional = None
         refine_ms = {}
         for change, apply in (("opacity", lambda k: _edit_opacity(scene.prop, k)),
                               ("colour", lambda k: _edit_colour(scene.prop, k)),
@@ -230,9 +246,11 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
             rows[change] = times
             if change == "opacity":
                 first = view.image()
-            refine_ms[change] = view.refine(last)
+            first_ms, refine_ms[change], early = view.refine(last, capture=change == "opacity")
+            refine_ms[change + "-first"] = first_ms
             if change == "opacity":
                 refined = view.image()
+                provisional = early if early is not None else refined
             # Back to the starting state for the next kind of change.
             if change == "step":
                 view.mapper.SetSampleDistance(scene.step_length(step))
@@ -241,7 +259,7 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
             view.frame()
             view.refine(time.perf_counter())
         statistics_row = method.statistics(view.mapper)
-        return rows, refine_ms, first, refined, statistics_row
+        return rows, refine_ms, first, (provisional, refined), statistics_row
     finally:
         view.close()
 
@@ -304,16 +322,20 @@ def run(config, base, output, log=print):
                        "median_ms": statistics.median(times[change]),
                        "max_ms": max(times[change]),
                        "refined_ms": refine_ms.get(change),
+                       "first_refined_ms": refine_ms.get(change + "-first"),
                        "table_size": stats.get("table_size")}
                 if change == "opacity" and reference is not None:
                     row["rmse_first"] = hm.compare(first, reference)[0]["rmse"]
-                    row["rmse_refined"] = hm.compare(refined, reference)[0]["rmse"]
+                    row["rmse_first_refined"] = hm.compare(refined[0], reference)[0]["rmse"]
+                    row["rmse_refined"] = hm.compare(refined[1], reference)[0]["rmse"]
                 rows.append(row)
                 log("%-8s %-22s %-8s median %8.1f ms  max %8.1f ms%s%s" % (
                     name, method_name, change, row["median_ms"], row["max_ms"],
-                    "  refined after %.0f ms" % row["refined_ms"]
+                    "  refined after %.0f ms (first %.0f ms)" % (row["refined_ms"],
+                                                                 row["first_refined_ms"])
                     if row["refined_ms"] is not None else "",
-                    "  rmse first %.5f refined %.5f" % (row["rmse_first"], row["rmse_refined"])
+                    "  rmse first %.5f first refined %.5f refined %.5f" % (
+                        row["rmse_first"], row["rmse_first_refined"], row["rmse_refined"])
                     if "rmse_first" in row else ""))
         # VTK's own mapper in the dataset's blend mode: stock, iso-stock, mip-stock, ...
         stock = by_method.get("stock" if scene.blend == "composite" else scene.blend + "-stock")
@@ -345,14 +367,14 @@ def write_csv_rows(rows, path):
 def format_summary(rows):
     """One line per dataset, method and change: the median, stock's, the method's camera
     move, the ratio to the target bound, and the refinement."""
-    lines = ["%-8s %-22s %-8s %9s %9s %9s %7s %10s" % ("dataset", "method", "change",
-                                                    "ms", "stock ms", "camera", "bound",
-                                                    "refined")]
+    lines = ["%-8s %-22s %-8s %9s %9s %9s %7s %10s %10s" % (
+        "dataset", "method", "change", "ms", "stock ms", "camera", "bound", "1st refined",
+        "refined")]
     for row in rows:
         def value(key, form):
             return form % row[key] if row.get(key) is not None else "-"
-        lines.append("%-8s %-22s %-8s %9s %9s %9s %7s %10s" % (
+        lines.append("%-8s %-22s %-8s %9s %9s %9s %7s %10s %10s" % (
             row["dataset"], row["method"], row["change"], value("median_ms", "%.0f"),
             value("stock_ms", "%.0f"), value("camera_ms", "%.0f"), value("bound_ratio", "%.2f"),
-            value("refined_ms", "%.0f")))
+            value("first_refined_ms", "%.0f"), value("refined_ms", "%.0f")))
     return "\n".join(lines) + "\n"

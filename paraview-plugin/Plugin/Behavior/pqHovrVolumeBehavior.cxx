@@ -222,7 +222,18 @@ double pqHovrVolumeBehavior::RefinementProgress(pqView* view)
 void pqHovrVolumeBehavior::onViewRendered()
 {
   auto* view = qobject_cast<pqView*>(this->sender());
-  if (!view || this->Refining.contains(view) || RefinementState(view) == 0)
+  const int state = view ? RefinementState(view) : 0;
+  // A render of a refined table (or oracle) that leaves nothing refining ends a refinement (a
+  // provisional table is followed by the measured one).
+  if (view && this->Finishing.removeAll(view) > 0 && state == 0)
+  {
+    ++this->Refinements;
+    if (this->Status)
+    {
+      this->Status->setToolTip(tr("hovr: %1 refinements completed").arg(this->Refinements));
+    }
+  }
+  if (!view || this->Refining.contains(view) || state == 0)
   {
     return;
   }
@@ -267,11 +278,7 @@ void pqHovrVolumeBehavior::onPoll()
     {
       // Its end re-enters onViewRendered, which polls again if another change is refining.
       this->ShowStatus(tr("hovr: refined"));
-      ++this->RefinedFrames;
-      if (this->Status)
-      {
-        this->Status->setToolTip(tr("hovr: %1 refined frames drawn").arg(this->RefinedFrames));
-      }
+      this->Finishing.push_back(view);
       view->render();
     }
     else if (state == 1)

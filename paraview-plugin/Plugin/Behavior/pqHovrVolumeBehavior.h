@@ -19,7 +19,7 @@
  *     their measurement stands (HovrRefinementState) and renders the view again when a
  *     measured table (or oracle) waits; a label in the main window's status bar says so
  *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined; its
- *     tool tip counts the refined frames drawn in the session), and
+ *     tool tip counts the refinements completed in the session), and
  *     ParaView's progress bar shows how far it is, without blocking the user's input (the
  *     work is in the background: the view stays interactive).
  */
@@ -72,7 +72,10 @@ private:
   QVector<QPointer<pqView>> Refining;
   QTimer Poll;
   QPointer<QLabel> Status;
-  int RefinedFrames = 0; // renders of refined tables or oracles, in the label's tool tip
+  // Views rendered for a refined table or oracle, and the refinements completed (in the
+  // label's tool tip).
+  QVector<QPointer<pqView>> Finishing;
+  int Refinements = 0;
   // Whether the progress bar is ours, and the progress manager's input blocking before.
   bool ProgressShown = false;
   bool ProgressUnblocked = false;

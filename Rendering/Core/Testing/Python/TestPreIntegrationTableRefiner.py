@@ -19,6 +19,11 @@ orders:
   distribution keeps the sizes and the range; values a little beyond it extend the range by
   whole centre spacings; values far outside it, or a distribution far from it, are measured
   again;
+- a provisional request (a table of measured sizes, edited): its provisional result is a
+  table of those sizes built for the edit (entries equal to that table built here), given
+  before the measurement ends, then the measured one; when the measurement finds the same
+  sizes, the final result changes nothing; without taking the provisional one, only the
+  measured one waits; the result is the same table either way as a plain request's;
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
   check).
 """
@@ -216,6 +221,88 @@ for order in (1, 2):
             sizing.GetLastDistributionShift() > sizing.GetMaximumDistributionShift(),
             "%s: a distribution shifted by %.3f of the range is measured again" % (
                 name, sizing.GetLastDistributionShift()))
+
+# Provisional results: the last measured sizes, built for an edit, before its measurement.
+for order in (1, 2):
+    name = "order %d, provisional" % order
+    measured = make_table(prop, order)
+    hovr.vtkPreIntegrationTableSizer().Choose(image, scalars, measured, order, step)
+    edited = make_property(0.5)  # an edit of the spike's height
+    # What the edit measures, and its kept sizes built for it, in the calling thread.
+    # Many rays: the measurement lasts long enough for the provisional result to be seen.
+    sizer = hovr.vtkPreIntegrationTableSizer()
+    sizer.SetNumberOfRays(32768)
+    expected = make_table(edited, order)
+    sizer.Choose(image, scalars, expected, order, step)
+    expected.Update()
+    kept = make_table(edited, order)
+    for setter, value in (("SetTableSize", measured.GetTableSize()),
+                          ("SetChordSize", measured.GetChordSize()),
+                          ("SetChordRange", measured.GetChordRange()),
+                          ("SetDeviationSize", measured.GetDeviationSize()),
+                          ("SetDeviationRange", measured.GetDeviationRange())):
+        getattr(kept, setter)(value)
+    kept.SetPrefilter(measured.GetPrefilter())
+    kept.Update()
+    refiner = hovr.vtkPreIntegrationTableRefiner()
+    refiner.GetSizerSettings().SetNumberOfRays(32768)
+    request_table = make_table(edited, order)
+    for setter in ("TableSize", "ChordSize", "ChordRange", "DeviationSize", "DeviationRange",
+                   "Prefilter"):
+        getattr(request_table, "Set" + setter)(getattr(measured, "Get" + setter)())
+    request = refiner.Request(image, scalars, request_table, order, step, 4097, True, True)
+    table = make_table(edited, order)
+    seen = False
+    while not seen:
+        if refiner.IsProvisional(request):
+            seen = refiner.TakeResult(request, table)
+        elif ((refiner.IsReady(request) and not refiner.IsProvisional(request)) or
+              (not refiner.IsBusy() and not refiner.IsReady(request))):
+            break  # the measured result (or a failure) came first
+    c.check(seen, "%s: a provisional result before the measurement ends (%s)" % (
+        name, refiner.GetFailure(request)))
+    if seen:
+        c.check(sizes(table) == sizes(measured) and
+                numpy.array_equal(entries(table), entries(kept)),
+                "%s: the provisional table is the measured sizes built for the edit" % name)
+    refiner.Wait()
+    c.check(refiner.IsReady(request) and not refiner.IsProvisional(request),
+            "%s: then the measured result" % name)
+    c.check(refiner.TakeResult(request, table), "%s: the measured result is taken" % name)
+    c.check(sizes(table) == sizes(expected), "%s: the measured sizes %s are the calling "
+            "thread's %s" % (name, sizes(table), sizes(expected)))
+    table.Update()
+    c.check(numpy.array_equal(entries(table), entries(expected)),
+            "%s: the final entries are those of the measured table" % name)
+    # Not taken: only the measured result waits.
+    request = refiner.Request(image, scalars, request_table, order, step, 4097, True, True)
+    refiner.Wait()
+    c.check(refiner.IsReady(request) and not refiner.IsProvisional(request),
+            "%s: a provisional result not taken gives way to the measured one" % name)
+    other = make_table(edited, order)
+    c.check(refiner.TakeResult(request, other) and sizes(other) == sizes(expected) and
+            numpy.array_equal(entries(other), entries(expected)),
+            "%s: the same table as without the provisional one" % name)
+    # The same sizes measured again: the final result changes nothing.
+    again = make_table(edited, order)
+    for setter in ("TableSize", "ChordSize", "ChordRange", "DeviationSize", "DeviationRange",
+                   "Prefilter"):
+        getattr(again, "Set" + setter)(getattr(expected, "Get" + setter)())
+    request = refiner.Request(image, scalars, again, order, step, 4097, True, True)
+    first = False
+    while not first:
+        if refiner.IsProvisional(request):
+            first = refiner.TakeResult(request, again)
+        elif ((refiner.IsReady(request) and not refiner.IsProvisional(request)) or
+              (not refiner.IsBusy() and not refiner.IsReady(request))):
+            break
+    refiner.Wait()
+    builds = again.GetBuildCount()
+    c.check(first and refiner.IsReady(request) and refiner.TakeResult(request, again) and
+            again.GetBuildCount() == builds and sizes(again) == sizes(expected) and
+            numpy.array_equal(entries(again), entries(expected)),
+            "%s: the same sizes measured: the provisional table stays" % name)
+    del refiner
 
 # A refiner deleted while it measures: the worker stops at its next check.
 big = hovr.vtkMarschnerLobbSource()
