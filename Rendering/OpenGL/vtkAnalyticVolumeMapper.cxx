@@ -148,46 +148,29 @@ void ComputeBlockRanges(vtkDataArray* scalars,
   }
 }
 
-// The 4 corners in x and y of each point of a brick's slices, x fastest (see
-// UpdateBrickTextures).
-template <typename T, typename Convert>
-void PackCorners(vtkDataArray* scalars,
+// The 4 corners in x and y of each point of slice z of a brick, x fastest (see
+// UpdateBrickTextures): texels of type T, raw value v stored as (v - shift) / scale.
+template <typename T>
+void PackSlice(const vtkVolumeScalarView& value,
   const int volumeDims[3],
   const int points[6],
-  Convert convert,
-  std::vector<T>& out)
+  int z,
+  double shift,
+  double scale,
+  T* texel)
 {
   const vtkIdType nx = volumeDims[0], ny = volumeDims[1];
-  const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
-  const size_t slice = static_cast<size_t>(w - 1) * (h - 1) * 4;
-  out.resize(slice * (points[5] - points[4] + 1));
-  // The values in place, converted as they are read (a copy that does not fit is the caller's
-  // out-of-memory case).
-  vtkVolumeScalarView value;
-  if (!value.SetArray(scalars))
+  for (vtkIdType j = points[2]; j < points[3]; ++j)
   {
-    throw std::bad_alloc();
-  }
-  vtkSMPTools::For(points[4],
-    points[5] + 1,
-    [&](vtkIdType kBegin, vtkIdType kEnd)
+    const vtkIdType row = nx * (j + ny * z);
+    for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
     {
-      for (vtkIdType k = kBegin; k < kEnd; ++k)
-      {
-        T* texel = out.data() + slice * static_cast<size_t>(k - points[4]);
-        for (vtkIdType j = points[2]; j < points[3]; ++j)
-        {
-          const vtkIdType row = nx * (j + ny * k);
-          for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
-          {
-            texel[0] = convert(value[row + i]);
-            texel[1] = convert(value[row + i + 1]);
-            texel[2] = convert(value[row + nx + i]);
-            texel[3] = convert(value[row + nx + i + 1]);
-          }
-        }
-      }
-    });
+      texel[0] = static_cast<T>((value[row + i] - shift) / scale);
+      texel[1] = static_cast<T>((value[row + i + 1] - shift) / scale);
+      texel[2] = static_cast<T>((value[row + nx + i] - shift) / scale);
+      texel[3] = static_cast<T>((value[row + nx + i + 1] - shift) / scale);
+    }
+  }
 }
 }
 
@@ -271,56 +254,68 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
   // fetches instead of 8. 8- and 16-bit unsigned data keep their type (the normalised values
   // equal those of the brick textures); other types are stored as the float raw values.
   const int type = scalars->GetDataType();
+  const int texelType = type == VTK_UNSIGNED_CHAR || type == VTK_UNSIGNED_SHORT ? type : VTK_FLOAT;
+  const double packShift = texelType == VTK_FLOAT ? shift : 0.0;
+  const double packScale = texelType == VTK_FLOAT ? scale : 1.0;
+  // A new time step on the same bricks is written into the textures already made.
+  std::vector<vtkSmartPointer<vtkTextureObject>> previous;
+  previous.swap(this->CornerTextures);
   this->CornerKey.clear();
-  this->CornerTextures.clear();
   this->CornerTextureMemorySize = 0;
-  std::string failure = "the texture could not be created";
-  bool created = true;
+  std::string failure = "not enough memory";
+  vtkVolumeScalarView value;
+  bool created = value.SetArray(scalars);
   for (int b = 0; b < bricks && created; ++b)
   {
     int points[6];
     layout->GetBrickPoints(b, points);
     const int size[3] = { points[1] - points[0], points[3] - points[2], points[5] - points[4] + 1 };
-    vtkNew<vtkTextureObject> texture;
-    texture->SetFormat(GL_RGBA);
-    try
+    vtkSmartPointer<vtkTextureObject> texture;
+    if (b < static_cast<int>(previous.size()) &&
+      vtkOpenGLVolumeBricks::HasTexture3D(previous[b], context, size, 4, texelType))
     {
-      // One texel type per scalar type: its conversion, GL internal format and data type.
-      auto upload = [&](auto convert, int internalFormat, int glType, int vtkType)
-      {
-        std::vector<decltype(convert(0.0))> packed;
-        PackCorners(scalars, dims, points, convert, packed);
-        texture->SetInternalFormat(internalFormat);
-        texture->SetDataType(glType);
-        return this->CreateTexture3D(
-          texture, context, size, 4, vtkType, packed.data(), "packed-corner texture", failure);
-      };
-      if (type == VTK_UNSIGNED_CHAR)
-      {
-        created = upload([](double v) { return static_cast<unsigned char>(v); },
-          GL_RGBA8,
-          GL_UNSIGNED_BYTE,
-          VTK_UNSIGNED_CHAR);
-      }
-      else if (type == VTK_UNSIGNED_SHORT)
-      {
-        created = upload([](double v) { return static_cast<unsigned short>(v); },
-          GL_RGBA16,
-          GL_UNSIGNED_SHORT,
-          VTK_UNSIGNED_SHORT);
-      }
-      else
-      {
-        created = upload([=](double v) { return static_cast<float>((v - shift) / scale); },
-          GL_RGBA32F,
-          GL_FLOAT,
-          VTK_FLOAT);
-      }
+      texture = previous[b];
+      previous[b] = nullptr;
     }
-    catch (const std::bad_alloc&)
+    else
     {
-      failure = "not enough memory";
-      created = false;
+      texture = vtkSmartPointer<vtkTextureObject>::New();
+      texture->SetFormat(GL_RGBA);
+      texture->SetInternalFormat(texelType == VTK_UNSIGNED_CHAR ? GL_RGBA8
+          : texelType == VTK_UNSIGNED_SHORT                     ? GL_RGBA16
+                                                                : GL_RGBA32F);
+      texture->SetDataType(texelType == VTK_UNSIGNED_CHAR ? GL_UNSIGNED_BYTE
+          : texelType == VTK_UNSIGNED_SHORT               ? GL_UNSIGNED_SHORT
+                                                          : GL_FLOAT);
+      created = this->CreateTexture3D(
+        texture, context, size, 4, texelType, nullptr, "packed-corner texture", failure);
+    }
+    if (created)
+    {
+      auto fill = [&](int z, void* out)
+      {
+        z += points[4];
+        if (texelType == VTK_UNSIGNED_CHAR)
+        {
+          PackSlice(value, dims, points, z, 0.0, 1.0, static_cast<unsigned char*>(out));
+        }
+        else if (texelType == VTK_UNSIGNED_SHORT)
+        {
+          PackSlice(value, dims, points, z, 0.0, 1.0, static_cast<unsigned short*>(out));
+        }
+        else
+        {
+          PackSlice(value, dims, points, z, packShift, packScale, static_cast<float*>(out));
+        }
+      };
+      const int origin[3] = { 0, 0, 0 };
+      created = vtkOpenGLVolumeBricks::WriteSlices(texture, origin, size, 4, texelType, fill);
+      const GLenum error = glGetError();
+      if (created && error != GL_NO_ERROR)
+      {
+        failure = "OpenGL could not write the packed-corner texture";
+        created = false;
+      }
     }
     if (created)
     {
@@ -328,9 +323,14 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
       texture->SetMagnificationFilter(vtkTextureObject::Nearest);
       this->CornerTextures.emplace_back(texture);
       this->CornerTextureMemorySize += static_cast<vtkIdType>(size[0]) * size[1] * size[2] * 4 *
-        (type == VTK_UNSIGNED_CHAR       ? 1
-            : type == VTK_UNSIGNED_SHORT ? 2
-                                         : 4);
+        vtkDataArray::GetDataTypeSize(texelType);
+    }
+  }
+  for (auto& unused : previous)
+  {
+    if (unused)
+    {
+      unused->ReleaseGraphicsResources(context);
     }
   }
   if (!created)
@@ -338,6 +338,10 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
     vtkWarningMacro("Could not make the packed copy of the volume's corners ("
       << failure
       << "); reading each cell's 8 corners from the volume's bricks instead (same image).");
+    for (auto& texture : this->CornerTextures)
+    {
+      texture->ReleaseGraphicsResources(context);
+    }
     this->CornerTextures.clear();
     this->CornerTextureMemorySize = 0;
     return false;

@@ -266,6 +266,12 @@ int vtkExtensibleGPUVolumeRayCastMapper::GetBrickUploadCount()
 }
 
 //------------------------------------------------------------------------------
+int vtkExtensibleGPUVolumeRayCastMapper::GetBrickTextureCreateCount()
+{
+  return this->Bricks->GetCreateCount();
+}
+
+//------------------------------------------------------------------------------
 vtkTextureObject* vtkExtensibleGPUVolumeRayCastMapper::GetBrickTexture()
 {
   return this->Bricks->GetTexture(this->CurrentBrick);

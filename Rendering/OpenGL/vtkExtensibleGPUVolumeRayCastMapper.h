@@ -140,6 +140,13 @@ public:
   int GetBrickUploadCount();
 
   /**
+   * Brick textures created since the mapper was made: a new volume in the same layout and
+   * format (a time step) is written into the textures already made, so this stays while
+   * GetBrickUploadCount() grows.
+   */
+  int GetBrickTextureCreateCount();
+
+  /**
    * The first point (0-based grid index) of brick b's texture in the last bricked frame: a
    * position in the brick's own grid index plus this is one in the volume's.
    */

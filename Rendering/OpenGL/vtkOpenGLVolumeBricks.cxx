@@ -4,14 +4,17 @@
 #include "vtkDataArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkVolumeBrickLayout.h"
+#include "vtkVolumeScalarView.h"
 #include "vtk_glew.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <new>
 #include <sstream>
 
@@ -62,9 +65,11 @@ Format FormatOf(int type, int precision, int components)
   return Format{ GL_R32F, GL_FLOAT, 4, true, 0.0, 1.0 };
 }
 
-// One slice (points x0..x1, y0..y1 at z) of `components` components into texels of type Out.
+// One slice (points x0..x1, y0..y1 at z) of `components` components into texels of type Out;
+// single-component arrays are read in place through `view`.
 template <typename Out>
-void FillSlice(vtkDataArray* scalars,
+void FillSlice(const vtkVolumeScalarView& view,
+  vtkDataArray* scalars,
   const int dims[3],
   const int points[6],
   int z,
@@ -72,12 +77,11 @@ void FillSlice(vtkDataArray* scalars,
   const Format& format,
   double shift,
   double scale,
-  std::vector<Out>& slice)
+  Out* out)
 {
-  const int w = points[1] - points[0] + 1, h = points[3] - points[2] + 1;
-  slice.resize(static_cast<size_t>(w) * h * components);
+  const int w = points[1] - points[0] + 1;
   const vtkIdType row = dims[0], plane = static_cast<vtkIdType>(dims[0]) * dims[1];
-  Out* out = slice.data();
+  const bool inPlace = view.GetNumberOfValues() > 0;
   for (int y = points[2]; y <= points[3]; ++y)
   {
     const vtkIdType base = points[0] + row * y + plane * z;
@@ -85,7 +89,7 @@ void FillSlice(vtkDataArray* scalars,
     {
       for (int c = 0; c < components; ++c)
       {
-        const double v = scalars->GetComponent(base + x, c);
+        const double v = inPlace ? view[base + x] : scalars->GetComponent(base + x, c);
         if (format.Float)
         {
           *out++ = static_cast<Out>((v - shift) / scale);
@@ -98,6 +102,83 @@ void FillSlice(vtkDataArray* scalars,
     }
   }
 }
+}
+
+//------------------------------------------------------------------------------
+bool vtkOpenGLVolumeBricks::WriteSlices(vtkTextureObject* texture,
+  const int offset[3],
+  const int size[3],
+  int components,
+  int vtkType,
+  const std::function<void(int, void*)>& fillSlice)
+{
+  const size_t sliceBytes =
+    static_cast<size_t>(size[0]) * size[1] * components * vtkDataArray::GetDataTypeSize(vtkType);
+  // A slab of a few MiB: each thread fills several slices, and no whole copy is kept.
+  constexpr size_t slabBytes = 8u << 20;
+  const int slab = static_cast<int>(
+    std::min<size_t>(size[2], std::max<size_t>(1, slabBytes / std::max<size_t>(sliceBytes, 1))));
+  std::unique_ptr<unsigned char[]> buffer;
+  try
+  {
+    buffer.reset(new unsigned char[sliceBytes * slab]);
+  }
+  catch (const std::bad_alloc&)
+  {
+    return false;
+  }
+  const GLenum format = components == 1 ? GL_RED
+    : components == 2                   ? GL_RG
+    : components == 3                   ? GL_RGB
+                                        : GL_RGBA;
+  const GLenum type = vtkType == VTK_UNSIGNED_CHAR ? GL_UNSIGNED_BYTE
+    : vtkType == VTK_UNSIGNED_SHORT                ? GL_UNSIGNED_SHORT
+                                                   : GL_FLOAT;
+  GLint alignment = 4;
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  texture->Activate();
+  for (int z0 = 0; z0 < size[2]; z0 += slab)
+  {
+    const int z1 = std::min(size[2], z0 + slab);
+    vtkSMPTools::For(z0,
+      z1,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType z = begin; z < end; ++z)
+        {
+          fillSlice(static_cast<int>(z), buffer.get() + sliceBytes * (z - z0));
+        }
+      });
+    glTexSubImage3D(GL_TEXTURE_3D,
+      0,
+      offset[0],
+      offset[1],
+      offset[2] + z0,
+      size[0],
+      size[1],
+      z1 - z0,
+      format,
+      type,
+      buffer.get());
+  }
+  texture->Deactivate();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkOpenGLVolumeBricks::HasTexture3D(vtkTextureObject* texture,
+  vtkOpenGLRenderWindow* context,
+  const int dims[3],
+  int components,
+  int vtkType)
+{
+  return texture && texture->GetHandle() != 0 && texture->GetContext() == context &&
+    static_cast<int>(texture->GetWidth()) == dims[0] &&
+    static_cast<int>(texture->GetHeight()) == dims[1] &&
+    static_cast<int>(texture->GetDepth()) == dims[2] && texture->GetComponents() == components &&
+    texture->GetVTKDataType() == vtkType;
 }
 
 //------------------------------------------------------------------------------
@@ -203,6 +284,13 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
   {
     return true;
   }
+  // New values in the same layout and format (a time step) are written into the textures
+  // already made.
+  std::vector<vtkSmartPointer<vtkTextureObject>> previous;
+  if (key.str() == this->Key)
+  {
+    previous.swap(this->Textures);
+  }
   this->ReleaseGraphicsResources(context);
   if (!shared)
   {
@@ -262,9 +350,6 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     return false;
   }
 
-  GLint alignment = 4;
-  glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (int n = 0; n < 16 && glGetError() != GL_NO_ERROR; ++n)
   {
   }
@@ -272,9 +357,12 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     : format.Bytes == 1            ? VTK_UNSIGNED_CHAR
                                    : VTK_UNSIGNED_SHORT;
   const int filter = this->Filtered ? vtkTextureObject::Linear : vtkTextureObject::Nearest;
-  std::vector<float> floats;
-  std::vector<unsigned short> shorts;
-  std::vector<unsigned char> bytes;
+  vtkVolumeScalarView view;
+  if (scalars->GetNumberOfComponents() == 1 && !view.SetArray(scalars))
+  {
+    why = "not enough memory to read the scalars";
+    return false;
+  }
   vtkSmartPointer<vtkTextureObject> texture;
   const int perPage = this->AtlasTiles[0] * this->AtlasTiles[1] * this->AtlasTiles[2];
   for (int b = 0; b < bricks && why.empty(); ++b)
@@ -298,56 +386,72 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     GLenum error = GL_NO_ERROR;
     if (first)
     {
-      texture = vtkSmartPointer<vtkTextureObject>::New();
-      texture->SetContext(context);
-      texture->SetInternalFormat(format.InternalFormat);
-      texture->SetFormat(components == 3 ? GL_RGB : GL_RED);
-      texture->SetDataType(format.GLType);
-      ok =
-        texture->Create3DFromRaw(created[0], created[1], created[2], components, vtkType, nullptr);
-      error = glGetError();
+      const size_t index = this->Textures.size();
+      if (index < previous.size() &&
+        HasTexture3D(previous[index], context, created, components, vtkType))
+      {
+        texture = previous[index];
+        previous[index] = nullptr;
+      }
+      else
+      {
+        texture = vtkSmartPointer<vtkTextureObject>::New();
+        texture->SetContext(context);
+        texture->SetInternalFormat(format.InternalFormat);
+        texture->SetFormat(components == 3 ? GL_RGB : GL_RED);
+        texture->SetDataType(format.GLType);
+        ok = texture->Create3DFromRaw(
+          created[0], created[1], created[2], components, vtkType, nullptr);
+        error = glGetError();
+        ++this->CreateCount;
+      }
     }
     if (ok && error == GL_NO_ERROR)
     {
-      texture->Activate();
-      try
+      auto fill = [&](int z, void* out)
       {
-        for (int z = points[4]; z <= points[5]; ++z)
+        z += points[4];
+        if (format.Float)
         {
-          const void* data = nullptr;
-          if (format.Float)
-          {
-            FillSlice(scalars, dims, points, z, components, format, shift, scale, floats);
-            data = floats.data();
-          }
-          else if (format.Bytes == 2)
-          {
-            FillSlice(scalars, dims, points, z, components, format, shift, scale, shorts);
-            data = shorts.data();
-          }
-          else
-          {
-            FillSlice(scalars, dims, points, z, components, format, shift, scale, bytes);
-            data = bytes.data();
-          }
-          glTexSubImage3D(GL_TEXTURE_3D,
-            0,
-            offset[0],
-            offset[1],
-            offset[2] + z - points[4],
-            size[0],
-            size[1],
-            1,
-            components == 3 ? GL_RGB : GL_RED,
-            format.GLType,
-            data);
+          FillSlice(view,
+            scalars,
+            dims,
+            points,
+            z,
+            components,
+            format,
+            shift,
+            scale,
+            static_cast<float*>(out));
         }
-      }
-      catch (const std::bad_alloc&)
-      {
-        ok = false;
-      }
-      texture->Deactivate();
+        else if (format.Bytes == 2)
+        {
+          FillSlice(view,
+            scalars,
+            dims,
+            points,
+            z,
+            components,
+            format,
+            shift,
+            scale,
+            static_cast<unsigned short*>(out));
+        }
+        else
+        {
+          FillSlice(view,
+            scalars,
+            dims,
+            points,
+            z,
+            components,
+            format,
+            shift,
+            scale,
+            static_cast<unsigned char*>(out));
+        }
+      };
+      ok = WriteSlices(texture, offset, size, components, vtkType, fill);
       error = glGetError();
     }
     if (!ok || error != GL_NO_ERROR)
@@ -383,7 +487,13 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     }
     ++this->UploadCount;
   }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+  for (auto& unused : previous)
+  {
+    if (unused)
+    {
+      unused->ReleaseGraphicsResources(context);
+    }
+  }
   if (!why.empty())
   {
     this->ReleaseGraphicsResources(context);
@@ -574,4 +684,5 @@ void vtkOpenGLVolumeBricks::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfBricks: " << this->GetNumberOfBricks() << "\n";
   os << indent << "MemorySize: " << this->MemorySize << "\n";
   os << indent << "UploadCount: " << this->UploadCount << "\n";
+  os << indent << "CreateCount: " << this->CreateCount << "\n";
 }

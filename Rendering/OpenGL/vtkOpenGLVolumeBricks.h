@@ -36,8 +36,9 @@
 #include "vtkObject.h"
 #include "vtkSmartPointer.h" // For ivar
 
-#include <string> // For std::string
-#include <vector> // For std::vector
+#include <functional> // For std::function
+#include <string>     // For std::string
+#include <vector>     // For std::vector
 
 class vtkDataArray;
 class vtkOpenGLRenderWindow;
@@ -114,10 +115,42 @@ public:
     vtkVolumeBrickLayout* layout = nullptr);
 
   /**
+   * Write slices of a 3D texture: the region of `size` texels at `offset`, of `components`
+   * values of vtkType each (VTK_UNSIGNED_CHAR, VTK_UNSIGNED_SHORT or VTK_FLOAT).
+   * fillSlice(z, out) writes slice z (0 <= z < size[2]) of the region, x fastest, to out. The
+   * slices are filled in threads, a slab at a time into a buffer of at most a few MiB (or one
+   * slice), and each slab is uploaded with glTexSubImage3D, so no copy of the whole region
+   * exists in CPU memory. False when the buffer cannot be allocated; GL errors are the
+   * caller's to check.
+   */
+#ifndef __VTK_WRAP__
+  static bool WriteSlices(vtkTextureObject* texture,
+    const int offset[3],
+    const int size[3],
+    int components,
+    int vtkType,
+    const std::function<void(int, void*)>& fillSlice);
+#endif
+
+  /**
+   * Whether `texture` already holds dims texels of `components` values of vtkType in
+   * `context`, so that new values can be written into it instead of creating it again (a new
+   * time step reuses its GPU memory).
+   */
+  static bool HasTexture3D(vtkTextureObject* texture,
+    vtkOpenGLRenderWindow* context,
+    const int dims[3],
+    int components,
+    int vtkType);
+
+  /**
    * Bricks of the last upload (0 without one), and brick b's texture (in atlas mode, the page
    * that holds it).
    */
-  int GetNumberOfBricks() const { return this->Textures.empty() ? 0 : this->BrickCount; }
+  int GetNumberOfBricks() const
+  {
+    return this->Textures.empty() ? 0 : this->BrickCount;
+  }
   vtkTextureObject* GetTexture(int brick) const;
 
   /**
@@ -129,7 +162,10 @@ public:
   /**
    * Textures of the last upload: one per brick, or the atlas's pages.
    */
-  int GetNumberOfTextures() const { return static_cast<int>(this->Textures.size()); }
+  int GetNumberOfTextures() const
+  {
+    return static_cast<int>(this->Textures.size());
+  }
 
   /**
    * Activate (bind to texture units) the textures a draw of brick b reads: in atlas mode every
@@ -172,12 +208,21 @@ public:
   /**
    * Bytes of GPU memory the textures hold.
    */
-  vtkIdType GetMemorySize() const { return this->MemorySize; }
+  vtkIdType GetMemorySize() const
+  {
+    return this->MemorySize;
+  }
 
   /**
    * Number of uploads so far (each brick counts).
    */
   vtkGetMacro(UploadCount, int);
+
+  /**
+   * Number of textures created so far: an upload of new values in the same layout and format
+   * (a time step) writes into the textures already made and creates none.
+   */
+  vtkGetMacro(CreateCount, int);
 
   void ReleaseGraphicsResources(vtkWindow* window);
 
@@ -214,6 +259,7 @@ private:
   double Shift = 0.0;
   vtkIdType MemorySize = 0;
   int UploadCount = 0;
+  int CreateCount = 0;
   // What the textures were made from: the array, its time, the settings.
   vtkDataArray* Scalars = nullptr; // not referenced: only compared
   vtkMTimeType ScalarsTime = 0;
