@@ -117,4 +117,15 @@ c.check(re.search(r"drag: 10 edits drawn at once, .*refining: True", process.std
 c.check(re.search(r"refined frame [0-9.]+ s after the last edit .*; oracle", process.stdout)
         is not None, "interactive refinement (adaptive-ray): OracleRefinedEvent brings the "
         "refined frame")
+# The provisional tables' error over the measured tables', on seeded random edits.
+process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                       "provisional_tables.py"),
+                          "--cases", "2", "--points", "32"], capture_output=True, text=True,
+                         timeout=300)
+print("provisional tables", process.stdout.strip())
+c.check(process.returncode == 0, "provisional tables exits 0 (%s)" % process.stderr.strip())
+summaries = re.findall(r"order (\d), (drag|spike): 2 edits, .* median ([0-9.]+), within 2% in "
+                       r"\d+, worst ([0-9.]+)", process.stdout)
+c.check(len(summaries) == 4 and all(0.0 < float(m) <= float(w) for _, _, m, w in summaries),
+        "provisional tables prints a summary per order and edit")
 c.finish()
