@@ -124,7 +124,7 @@ process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python
                          timeout=300)
 print("provisional tables", process.stdout.strip())
 c.check(process.returncode == 0, "provisional tables exits 0 (%s)" % process.stderr.strip())
-summaries = re.findall(r"order (\d), (drag|spike): 2 edits, .* median ([0-9.]+), within 2% in "
+summaries = re.findall(r"order (\d), (drag|spike) *: 2 edits, .* median ([0-9.]+), within 2% in "
                        r"\d+, worst ([0-9.]+)", process.stdout)
 c.check(len(summaries) == 4 and all(0.0 < float(m) <= float(w) for _, _, m, w in summaries),
         "provisional tables prints a summary per order and edit")
