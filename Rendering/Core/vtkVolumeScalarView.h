@@ -120,6 +120,48 @@ public:
   }
 
   /**
+   * Call f(values) with the viewed values as a pointer to their own type (float, double,
+   * unsigned char, ...; a copy is double), so that a loop over many of them converts each
+   * without a type dispatch per value. Nothing is called on an empty view.
+   */
+  template <typename Functor>
+  void Visit(Functor&& f) const
+  {
+    switch (this->Type)
+    {
+      case VTK_FLOAT:
+        f(static_cast<const float*>(this->Data));
+        break;
+      case VTK_DOUBLE:
+        f(static_cast<const double*>(this->Data));
+        break;
+      case VTK_UNSIGNED_CHAR:
+        f(static_cast<const unsigned char*>(this->Data));
+        break;
+      case VTK_UNSIGNED_SHORT:
+        f(static_cast<const unsigned short*>(this->Data));
+        break;
+      case VTK_SHORT:
+        f(static_cast<const short*>(this->Data));
+        break;
+      case VTK_SIGNED_CHAR:
+        f(static_cast<const signed char*>(this->Data));
+        break;
+      case VTK_CHAR:
+        f(static_cast<const char*>(this->Data));
+        break;
+      case VTK_INT:
+        f(static_cast<const int*>(this->Data));
+        break;
+      case VTK_UNSIGNED_INT:
+        f(static_cast<const unsigned int*>(this->Data));
+        break;
+      default:
+        break;
+    }
+  }
+
+  /**
    * The 8 corners of the cell whose lowest point is `base` (x, then y at +sy, then z at +sz),
    * indexed i + 2 j + 4 k: one type dispatch for the 8 reads.
    */

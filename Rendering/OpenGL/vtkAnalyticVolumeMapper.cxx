@@ -149,9 +149,10 @@ void ComputeBlockRanges(vtkDataArray* scalars,
 }
 
 // The 4 corners in x and y of each point of slice z of a brick, x fastest (see
-// UpdateBrickTextures): texels of type T, raw value v stored as (v - shift) / scale.
-template <typename T>
-void PackSlice(const vtkVolumeScalarView& value,
+// UpdateBrickTextures): texels of type T from values of type S, raw value v stored as
+// (v - shift) / scale (v itself when shift is 0 and scale 1).
+template <typename T, typename S>
+void PackSlice(const S* value,
   const int volumeDims[3],
   const int points[6],
   int z,
@@ -160,15 +161,28 @@ void PackSlice(const vtkVolumeScalarView& value,
   T* texel)
 {
   const vtkIdType nx = volumeDims[0], ny = volumeDims[1];
+  const bool identity = shift == 0.0 && scale == 1.0;
   for (vtkIdType j = points[2]; j < points[3]; ++j)
   {
-    const vtkIdType row = nx * (j + ny * z);
+    const S* row = value + nx * (j + ny * z);
+    const S* next = row + nx;
+    if (identity)
+    {
+      for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
+      {
+        texel[0] = static_cast<T>(row[i]);
+        texel[1] = static_cast<T>(row[i + 1]);
+        texel[2] = static_cast<T>(next[i]);
+        texel[3] = static_cast<T>(next[i + 1]);
+      }
+      continue;
+    }
     for (vtkIdType i = points[0]; i < points[1]; ++i, texel += 4)
     {
-      texel[0] = static_cast<T>((value[row + i] - shift) / scale);
-      texel[1] = static_cast<T>((value[row + i + 1] - shift) / scale);
-      texel[2] = static_cast<T>((value[row + nx + i] - shift) / scale);
-      texel[3] = static_cast<T>((value[row + nx + i + 1] - shift) / scale);
+      texel[0] = static_cast<T>((row[i] - shift) / scale);
+      texel[1] = static_cast<T>((row[i + 1] - shift) / scale);
+      texel[2] = static_cast<T>((next[i] - shift) / scale);
+      texel[3] = static_cast<T>((next[i + 1] - shift) / scale);
     }
   }
 }
@@ -295,18 +309,22 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
       auto fill = [&](int z, void* out)
       {
         z += points[4];
-        if (texelType == VTK_UNSIGNED_CHAR)
-        {
-          PackSlice(value, dims, points, z, 0.0, 1.0, static_cast<unsigned char*>(out));
-        }
-        else if (texelType == VTK_UNSIGNED_SHORT)
-        {
-          PackSlice(value, dims, points, z, 0.0, 1.0, static_cast<unsigned short*>(out));
-        }
-        else
-        {
-          PackSlice(value, dims, points, z, packShift, packScale, static_cast<float*>(out));
-        }
+        value.Visit(
+          [&](const auto* values)
+          {
+            if (texelType == VTK_UNSIGNED_CHAR)
+            {
+              PackSlice(values, dims, points, z, 0.0, 1.0, static_cast<unsigned char*>(out));
+            }
+            else if (texelType == VTK_UNSIGNED_SHORT)
+            {
+              PackSlice(values, dims, points, z, 0.0, 1.0, static_cast<unsigned short*>(out));
+            }
+            else
+            {
+              PackSlice(values, dims, points, z, packShift, packScale, static_cast<float*>(out));
+            }
+          });
       };
       const int origin[3] = { 0, 0, 0 };
       created = vtkOpenGLVolumeBricks::WriteSlices(texture, origin, size, 4, texelType, fill);

@@ -65,11 +65,53 @@ Format FormatOf(int type, int precision, int components)
   return Format{ GL_R32F, GL_FLOAT, 4, true, 0.0, 1.0 };
 }
 
-// One slice (points x0..x1, y0..y1 at z) of `components` components into texels of type Out;
-// single-component arrays are read in place through `view`.
+// One slice (points x0..x1, y0..y1 at z) of a single-component array's values (of type S)
+// into texels of type Out.
+template <typename Out, typename S>
+void FillSlice(const S* values,
+  const int dims[3],
+  const int points[6],
+  int z,
+  const Format& format,
+  double shift,
+  double scale,
+  Out* out)
+{
+  const int w = points[1] - points[0] + 1;
+  const vtkIdType row = dims[0], plane = static_cast<vtkIdType>(dims[0]) * dims[1];
+  const bool identity =
+    format.Float ? shift == 0.0 && scale == 1.0 : format.Offset == 0.0 && format.Factor == 1.0;
+  for (int y = points[2]; y <= points[3]; ++y)
+  {
+    const S* in = values + points[0] + row * y + plane * z;
+    if (identity)
+    {
+      for (int x = 0; x < w; ++x)
+      {
+        *out++ = static_cast<Out>(in[x]);
+      }
+    }
+    else if (format.Float)
+    {
+      for (int x = 0; x < w; ++x)
+      {
+        *out++ = static_cast<Out>((in[x] - shift) / scale);
+      }
+    }
+    else
+    {
+      for (int x = 0; x < w; ++x)
+      {
+        *out++ = static_cast<Out>(std::lround((in[x] + format.Offset) * format.Factor));
+      }
+    }
+  }
+}
+
+// The same for any array: `components` components of each point (3: all of them, else
+// component 0), read one by one.
 template <typename Out>
-void FillSlice(const vtkVolumeScalarView& view,
-  vtkDataArray* scalars,
+void FillSliceOf(vtkDataArray* scalars,
   const int dims[3],
   const int points[6],
   int z,
@@ -81,7 +123,6 @@ void FillSlice(const vtkVolumeScalarView& view,
 {
   const int w = points[1] - points[0] + 1;
   const vtkIdType row = dims[0], plane = static_cast<vtkIdType>(dims[0]) * dims[1];
-  const bool inPlace = view.GetNumberOfValues() > 0;
   for (int y = points[2]; y <= points[3]; ++y)
   {
     const vtkIdType base = points[0] + row * y + plane * z;
@@ -89,7 +130,7 @@ void FillSlice(const vtkVolumeScalarView& view,
     {
       for (int c = 0; c < components; ++c)
       {
-        const double v = inPlace ? view[base + x] : scalars->GetComponent(base + x, c);
+        const double v = scalars->GetComponent(base + x, c);
         if (format.Float)
         {
           *out++ = static_cast<Out>((v - shift) / scale);
@@ -411,44 +452,27 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
       auto fill = [&](int z, void* out)
       {
         z += points[4];
+        auto write = [&](auto* texels)
+        {
+          if (view.GetNumberOfValues() == 0)
+          {
+            FillSliceOf(scalars, dims, points, z, components, format, shift, scale, texels);
+            return;
+          }
+          view.Visit([&](const auto* values)
+            { FillSlice(values, dims, points, z, format, shift, scale, texels); });
+        };
         if (format.Float)
         {
-          FillSlice(view,
-            scalars,
-            dims,
-            points,
-            z,
-            components,
-            format,
-            shift,
-            scale,
-            static_cast<float*>(out));
+          write(static_cast<float*>(out));
         }
         else if (format.Bytes == 2)
         {
-          FillSlice(view,
-            scalars,
-            dims,
-            points,
-            z,
-            components,
-            format,
-            shift,
-            scale,
-            static_cast<unsigned short*>(out));
+          write(static_cast<unsigned short*>(out));
         }
         else
         {
-          FillSlice(view,
-            scalars,
-            dims,
-            points,
-            z,
-            components,
-            format,
-            shift,
-            scale,
-            static_cast<unsigned char*>(out));
+          write(static_cast<unsigned char*>(out));
         }
       };
       ok = WriteSlices(texture, offset, size, components, vtkType, fill);

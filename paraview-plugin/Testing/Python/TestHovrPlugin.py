@@ -26,6 +26,7 @@ is how a baseline is made (inspect the image, then copy it to the baseline path)
 import argparse
 import os
 import re
+import time
 
 from paraview.simple import (ColorBy, Connect, CreateRenderView, Disconnect,
                              GetColorTransferFunction, GetOpacityTransferFunction, LoadPlugin,
@@ -168,6 +169,14 @@ def plain_view(size):
     view.UseFXAA = 0
     view.UseToneMapping = 0
     return view
+
+
+def refinement_state(display):
+    """The representation's refinement state, asked of the process that draws (the server in
+    client-server), as the GUI's behaviour asks it."""
+    prop = display.SMProxy.GetProperty("HovrRefinementState")
+    prop.GetParent().UpdatePropertyInformation(prop)
+    return prop.GetElement(0)
 
 
 def capture(view, path, size=IMAGE_SIZE):
@@ -485,6 +494,43 @@ def main():
     for name, value in zip(CPU_PROPERTIES, CPU_DEFAULTS):
         display.SetPropertyWithName(name, value)
     view.CameraParallelProjection = 0
+
+    # Answer first, refine after, through the session: what the GUI's behaviour polls (the
+    # representation's refinement state, an information property, asked of the server in
+    # client-server). The image measured at once for an edit of the opacity peak, then the
+    # same edit with Refine In Background: drawn at once while the table is measured (state 1
+    # or 2), and once the state says a refined table waits (2), the next render draws the
+    # measured image (state 0).
+    display.HovrIntegration = "First-order pre-integration"
+    display.HovrSampleDistance = GRID_SPACING
+    display.HovrTableSize = 0
+    peak = list(opacity.Points)
+    moved = list(peak)
+    moved[8] = 0.505  # the peak's position
+    opacity.Points = moved
+    measured = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-refine-measured.png"))
+    opacity.Points = peak
+    Render(view)
+    display.HovrRefineInBackground = 1
+    opacity.Points = moved
+    Render(view)
+    state = refinement_state(display)
+    checker.check(state in (1, 2), "Refine In Background: the edit is drawn while its table is "
+                  "measured (state %d)" % state)
+    deadline = time.time() + 120.0
+    while state == 1 and time.time() < deadline:
+        time.sleep(0.1)
+        state = refinement_state(display)
+    refined = capture(view, os.path.join(args.output_dir, "TestHovrPlugin-refine-refined.png"))
+    after = refinement_state(display)
+    difference = image_difference(refined, measured)
+    checker.check(state == 2 and after == 0 and difference == 0.0,
+                  "Refine In Background: the refined table waits (state %d), the next render "
+                  "draws it (state %d) and the image measured at once (RMS difference %g)"
+                  % (state, after, difference))
+    display.HovrRefineInBackground = 0
+    display.HovrTableSize = TABLE_SIZE
+    opacity.Points = peak
 
     display.HovrIntegration = "First-order pre-integration"
     display.HovrSampleDistance = 0.0
