@@ -103,27 +103,31 @@ void ComputeBlockRanges(vtkDataArray* scalars,
             std::min(first[2] + size, dims[2] - 1) };
           double low = inf, high = -inf;
           bool nan = false, found = false;
-          for (int k = first[2]; k <= last[2]; ++k)
-          {
-            for (int j = first[1]; j <= last[1]; ++j)
+          value.Visit(
+            [&](const auto* values)
             {
-              const vtkIdType row = points[0] +
-                static_cast<vtkIdType>(volumeDims[0]) *
-                  (points[2] + j + static_cast<vtkIdType>(volumeDims[1]) * (points[4] + k));
-              for (int i = first[0]; i <= last[0]; ++i)
+              for (int k = first[2]; k <= last[2]; ++k)
               {
-                const double v = value[row + i];
-                if (std::isnan(v))
+                for (int j = first[1]; j <= last[1]; ++j)
                 {
-                  nan = true;
-                  continue;
+                  const auto* row = values + points[0] +
+                    static_cast<vtkIdType>(volumeDims[0]) *
+                      (points[2] + j + static_cast<vtkIdType>(volumeDims[1]) * (points[4] + k));
+                  for (int i = first[0]; i <= last[0]; ++i)
+                  {
+                    const double v = row[i];
+                    if (std::isnan(v))
+                    {
+                      nan = true;
+                      continue;
+                    }
+                    found = true;
+                    low = std::min(low, v);
+                    high = std::max(high, v);
+                  }
                 }
-                found = true;
-                low = std::min(low, v);
-                high = std::max(high, v);
               }
-            }
-          }
+            });
           // (v - shift) / scale is monotonic: the ends map to the raw range's ends.
           const double a = (low - shift) / scale, c = (high - shift) / scale;
           lo[b] = found ? std::min(a, c) : inf;
