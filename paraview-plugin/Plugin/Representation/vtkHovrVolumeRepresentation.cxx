@@ -15,6 +15,8 @@
 #include "vtkObjectOrderRayCaster.h"
 #include "vtkObjectOrderVolumeMapper.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "vtkPreIntegrationTableRefiner.h"
+#include "vtkPreIntegrationTableSizing.h"
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
@@ -298,6 +300,15 @@ int vtkHovrVolumeRepresentation::GetRefinementState()
   }
   this->Oracle->CheckRefinement();
   return this->Oracle->GetRefinementReady() ? REFINEMENT_READY : REFINEMENT_RUNNING;
+}
+
+//------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::GetRefinementCount()
+{
+  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->PreIntegrationMapper);
+  return mapper
+    ? static_cast<int>(mapper->GetTableSizing()->GetRefiner()->GetNumberOfCompleted())
+    : 0;
 }
 
 //------------------------------------------------------------------------------

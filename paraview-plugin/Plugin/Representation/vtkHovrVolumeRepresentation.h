@@ -266,6 +266,13 @@ public:
    */
   double GetRefinementProgress();
 
+  /**
+   * Background measurements the pre-integration mapper has completed since it was made (its
+   * refiner's count; 0 for the other methods): a client can tell that an edit was refined in
+   * the background even when the measurement ended before it asked for the state.
+   */
+  int GetRefinementCount();
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;
