@@ -19,6 +19,7 @@
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMPropertyIterator.h"
 #include "vtkSMProxy.h"
+#include "vtkSMSessionProxyManager.h"
 
 #include <QLabel>
 #include <QMainWindow>
@@ -181,21 +182,48 @@ void pqHovrVolumeBehavior::onViewAdded(pqView* view)
 }
 
 //------------------------------------------------------------------------------
+vtkSMProxy* pqHovrVolumeBehavior::UpdatedStatus(pqRepresentation* representation)
+{
+  vtkSMProxy* proxy = representation->getProxy();
+  // The "hovr Volume" subproxy: the owner of its exposed property.
+  vtkSMProperty* property = proxy ? proxy->GetProperty("HovrRefinementState") : nullptr;
+  vtkSMProxy* hovr = property ? property->GetParent() : nullptr;
+  if (!hovr || !representation->isVisible())
+  {
+    return nullptr;
+  }
+  auto found = this->Statuses.find(representation);
+  if (found == this->Statuses.end())
+  {
+    vtkSmartPointer<vtkSMProxy> status;
+    status.TakeReference(
+      hovr->GetSessionProxyManager()->NewProxy("hovr_misc", "HovrRefinementStatus"));
+    if (!status)
+    {
+      return nullptr;
+    }
+    vtkSMPropertyHelper(status, "Representation").Set(hovr);
+    status->UpdateVTKObjects();
+    found = this->Statuses.emplace(representation, status).first;
+    QObject::connect(representation,
+      &QObject::destroyed,
+      this,
+      [this, representation]() { this->Statuses.erase(representation); });
+  }
+  found->second->UpdatePropertyInformation();
+  return found->second;
+}
+
+//------------------------------------------------------------------------------
 int pqHovrVolumeBehavior::RefinementState(pqView* view)
 {
   int state = 0;
   for (pqRepresentation* representation : view->getRepresentations())
   {
-    vtkSMProxy* proxy = representation->getProxy();
-    // The exposed property of the "hovr Volume" subproxy, asked of that subproxy.
-    vtkSMProperty* property = proxy ? proxy->GetProperty("HovrRefinementState") : nullptr;
-    vtkSMProxy* hovr = property ? property->GetParent() : nullptr;
-    if (!hovr || !representation->isVisible())
+    if (vtkSMProxy* status = this->UpdatedStatus(representation))
     {
-      continue;
+      state = std::max(state, vtkSMPropertyHelper(status, "State").GetAsInt());
     }
-    hovr->UpdatePropertyInformation(property);
-    state = std::max(state, vtkSMPropertyHelper(property).GetAsInt());
   }
   return state;
 }
@@ -206,13 +234,9 @@ double pqHovrVolumeBehavior::RefinementProgress(pqView* view)
   double progress = 1.0;
   for (pqRepresentation* representation : view->getRepresentations())
   {
-    vtkSMProxy* proxy = representation->getProxy();
-    vtkSMProperty* property = proxy ? proxy->GetProperty("HovrRefinementProgress") : nullptr;
-    vtkSMProxy* hovr = property ? property->GetParent() : nullptr;
-    if (hovr && representation->isVisible())
+    if (vtkSMProxy* status = this->UpdatedStatus(representation))
     {
-      hovr->UpdatePropertyInformation(property);
-      progress = std::min(progress, vtkSMPropertyHelper(property).GetAsDouble());
+      progress = std::min(progress, vtkSMPropertyHelper(status, "Progress").GetAsDouble());
     }
   }
   return progress;
@@ -329,7 +353,10 @@ void pqHovrVolumeBehavior::HideProgress()
 }
 
 //------------------------------------------------------------------------------
-void pqHovrVolumeBehavior::onShutdown() {}
+void pqHovrVolumeBehavior::onShutdown()
+{
+  this->Statuses.clear();
+}
 
 //------------------------------------------------------------------------------
 int pqHovrVolumeBehavior::WidenVolumeDecorators(vtkPVXMLElement* hints)

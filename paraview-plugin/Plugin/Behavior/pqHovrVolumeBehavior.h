@@ -16,7 +16,8 @@
  *   - every new "hovr Volume" refines its tables in the background (HovrRefineInBackground:
  *     an edit is drawn at once with interim table sizes), and after each render of a view
  *     that draws interim tables the behaviour asks the representations, every 100 ms, where
- *     their measurement stands (HovrRefinementState) and renders the view again when a
+ *     their measurement stands (a "HovrRefinementStatus" proxy each, which answers where the
+ *     volume is drawn, the server in client-server) and renders the view again when a
  *     measured table (or oracle) waits; a label in the main window's status bar says so
  *     ("hovrRefinementStatus": refining, with how far the measurement is, then refined; its
  *     tool tip counts the refinements completed in the session), and
@@ -31,10 +32,15 @@
 #include <QTimer>
 #include <QVector>
 
+#include "vtkSmartPointer.h" // For ivar
+
+#include <map> // For ivar
+
 class QLabel;
 class pqRepresentation;
 class pqView;
 class vtkPVXMLElement;
+class vtkSMProxy;
 
 class pqHovrVolumeBehavior : public QObject
 {
@@ -63,10 +69,16 @@ private Q_SLOTS:
   void onPoll();
 
 private:
-  // Where the hovr representations of a view stand: the largest RefinementState.
-  static int RefinementState(pqView* view);
+  // Where the hovr representations of a view stand: the largest refinement state.
+  int RefinementState(pqView* view);
   // How far their measurements are (the least), in [0, 1].
-  static double RefinementProgress(pqView* view);
+  double RefinementProgress(pqView* view);
+  // The "HovrRefinementStatus" proxy of a visible "hovr Volume" representation (made on first
+  // use, released with the representation), its information brought up to date; null for
+  // other representations. It is asked where the volume is drawn: the server, when there is
+  // one.
+  vtkSMProxy* UpdatedStatus(pqRepresentation* representation);
+  std::map<pqRepresentation*, vtkSmartPointer<vtkSMProxy>> Statuses;
   // Shows what the refinement does in the status bar (made on first use).
   void ShowStatus(const QString& text);
   QVector<QPointer<pqView>> Refining;

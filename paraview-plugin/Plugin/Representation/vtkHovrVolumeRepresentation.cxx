@@ -306,9 +306,8 @@ int vtkHovrVolumeRepresentation::GetRefinementState()
 int vtkHovrVolumeRepresentation::GetRefinementCount()
 {
   auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->PreIntegrationMapper);
-  return mapper
-    ? static_cast<int>(mapper->GetTableSizing()->GetRefiner()->GetNumberOfCompleted())
-    : 0;
+  return mapper ? static_cast<int>(mapper->GetTableSizing()->GetRefiner()->GetNumberOfCompleted())
+                : 0;
 }
 
 //------------------------------------------------------------------------------
