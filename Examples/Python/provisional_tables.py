@@ -20,14 +20,13 @@ provisional table's error over the measured one's.
 """
 
 import argparse
-import math
 
 import numpy
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
-from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+from vtkmodules.vtkCommonDataModel import vtkImageData
 
 import hovr
+from hovr import randomcases
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("--cases", type=int, default=12, help="random cases")
@@ -64,34 +63,6 @@ def volume(rng):
     array.SetName("scalars")
     image.GetPointData().SetScalars(array)
     return kind, image
-
-
-def make_property(rng, low, high):
-    """One to three random features (spikes, steps, ramps; 0.5% to 10% of the range wide)."""
-    span = high - low
-    nodes = {low: 0.0, high: 0.0}
-    for _ in range(int(rng.integers(1, 4))):
-        kind = rng.choice(["spike", "step", "ramp"])
-        w = span * 10 ** rng.uniform(math.log10(0.005), math.log10(0.1))
-        c = low + span * rng.uniform(0.1, 0.9)
-        h = float(10 ** rng.uniform(-1.5, 0))
-        new = ({c - w / 2: 0.0, c: h, c + w / 2: 0.0} if kind == "spike" else
-               {c: 0.0, c + 0.05 * w: h, high: h} if kind == "step" else
-               {c: 0.0, min(c + 4 * w, high): h})
-        for x, a in new.items():
-            x = min(max(x, low), high)
-            nodes[x] = max(nodes.get(x, 0.0), a)
-    opacity = vtkPiecewiseFunction()
-    for x in sorted(nodes):
-        opacity.AddPoint(x, nodes[x])
-    color = vtkColorTransferFunction()
-    for x in numpy.linspace(low, high, 3):
-        color.AddRGBPoint(float(x), *rng.uniform(0, 1, 3))
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(float(10 ** rng.uniform(-0.5, 0.5)))
-    return prop
 
 
 def edit(rng, prop, kind, low, high):
@@ -152,7 +123,8 @@ for case in range(args.cases):
     kind, image = volume(rng)
     low, high = image.GetPointData().GetScalars().GetRange()
     for order in (1, 2):
-        prop = make_property(numpy.random.default_rng(4000 + case), low, high)
+        prop, _ = randomcases.transfer_function(numpy.random.default_rng(4000 + case), low,
+                                                 high)
         last = measure(image, prop, order)
         for change in ("drag", "spike"):
             edit(rng, prop, change, low, high)

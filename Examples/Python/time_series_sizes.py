@@ -34,6 +34,7 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 import hovr
+from hovr import randomcases
 
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -94,35 +95,6 @@ def series(kind, steps):
     return out
 
 
-def make_property(rng, low, high):
-    """One to three random features (spikes, steps, ramps; 0.5% to 10% of the range wide)."""
-    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
-    span = high - low
-    nodes = {low: 0.0, high: 0.0}
-    for _ in range(int(rng.integers(1, 4))):
-        kind = rng.choice(["spike", "step", "ramp"])
-        w = span * 10 ** rng.uniform(math.log10(0.005), math.log10(0.1))
-        c = low + span * rng.uniform(0.1, 0.9)
-        h = float(10 ** rng.uniform(-1.5, 0))
-        new = ({c - w / 2: 0.0, c: h, c + w / 2: 0.0} if kind == "spike" else
-               {c: 0.0, c + 0.05 * w: h, high: h} if kind == "step" else
-               {c: 0.0, min(c + 4 * w, high): h})
-        for x, a in new.items():
-            x = min(max(x, low), high)
-            nodes[x] = max(nodes.get(x, 0.0), a)
-    opacity = vtkPiecewiseFunction()
-    for x in sorted(nodes):
-        opacity.AddPoint(x, nodes[x])
-    color = vtkColorTransferFunction()
-    for x in numpy.linspace(low, high, 3):
-        color.AddRGBPoint(float(x), *rng.uniform(0, 1, 3))
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(float(10 ** rng.uniform(-0.5, 0.5)))
-    return prop, ""
-
 rows = []
 for kind in ("alpha", "drift", "grow", "blobs", "noise"):
     images = series(kind, args.steps)
@@ -131,7 +103,7 @@ for kind in ("alpha", "drift", "grow", "blobs", "noise"):
     reference_signature = vtkDoubleArray()
     for case in range(args.cases):
         rng = numpy.random.default_rng(2000 + case)
-        prop, tf_name = make_property(rng, low, high)
+        prop, tf_name = randomcases.transfer_function(rng, low, high)
         hovr.vtkPreIntegrationTableSizing.ComputeSignature(first, images[0].GetDimensions(),
                                                           (low, high), reference_signature)
         for order in (1, 2):

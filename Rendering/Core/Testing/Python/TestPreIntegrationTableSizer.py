@@ -36,10 +36,10 @@ import time
 import numpy
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDoubleArray
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
-from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+from vtkmodules.vtkCommonDataModel import vtkImageData
 
 import hovr
+from hovr import randomcases
 from hovrtesting import Checker
 
 CASES = 50          # random transfer functions, each for both orders
@@ -91,40 +91,6 @@ def make_volume(rng):
     array.SetName("scalars")
     image.GetPointData().SetScalars(array)
     return image, "%s %d^3 %s" % (kind, n, stored)
-
-
-def make_property(rng, low, high):
-    span = high - low
-    nodes = {low: 0.0, high: 0.0}
-    names = []
-    for _ in range(int(rng.integers(1, 5))):
-        kind = rng.choice(["spike", "step", "plateau", "ramp"])
-        w = span * 10 ** rng.uniform(math.log10(0.002), math.log10(0.15))
-        c = low + span * rng.uniform(0.05, 0.95)
-        h = float(10 ** rng.uniform(-1.7, 0))
-        if kind == "spike":
-            new = {c - w / 2: 0.0, c: h, c + w / 2: 0.0}
-        elif kind == "step":
-            new = {c: 0.0, c + 0.05 * w: h, high: h}
-        elif kind == "plateau":
-            new = {c - 0.6 * w: 0.0, c - w / 2: h, c + w / 2: h, c + 0.6 * w: 0.0}
-        else:
-            new = {c: 0.0, min(c + 4 * w, high): h}
-        names.append("%s %.2g wide" % (kind, w / span))
-        for x, a in new.items():
-            x = min(max(x, low), high)
-            nodes[x] = max(nodes.get(x, 0.0), a)
-    opacity = vtkPiecewiseFunction()
-    for x in sorted(nodes):
-        opacity.AddPoint(x, nodes[x])
-    color = vtkColorTransferFunction()
-    for x in numpy.linspace(low, high, int(rng.integers(2, 6))):
-        color.AddRGBPoint(float(x), *rng.uniform(0, 1, 3))
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(float(10 ** rng.uniform(math.log10(0.3), math.log10(5))))
-    return prop, ", ".join(names)
 
 
 def sweep_axis(extent, spacing):
@@ -209,7 +175,10 @@ for case in CASE_NUMBERS:
     rng = numpy.random.default_rng(seed)
     image, volume_name = make_volume(rng)
     low, high = image.GetPointData().GetScalars().GetRange()
-    prop, tf_name = make_property(rng, low, high)
+    prop, tf_name = randomcases.transfer_function(
+        rng, low, high, features=(1, 5), kinds=("spike", "step", "plateau", "ramp"),
+        widths=(0.002, 0.15), centres=(0.05, 0.95), log_heights=(-1.7, 0.0),
+        colour_points=(2, 6), log_units=(math.log10(0.3), math.log10(5)))
     step = float(rng.choice([0.25, 0.5, 1.0, 2.0, 4.0]))
     table = hovr.vtkSecondOrderPreIntegrationTable()
     sizer = hovr.vtkPreIntegrationTableSizer()
