@@ -268,7 +268,7 @@ def _reference_key(spec, image, prop_desc, camera, size):
     return digest.hexdigest()[:20]
 
 
-def _rescale_transfer_function(color, opacity, image):
+def rescale_transfer_function(color, opacity, image):
     """Map the transfer functions' nodes from their own value range onto the data's."""
     low, high = image.GetPointData().GetScalars().GetFiniteRange()
     for function, width in ((color, 6), (opacity, 4)):
@@ -289,7 +289,7 @@ def _scene_for(spec, base, size):
     tf_path = _expand(spec["tf"], base)
     color, opacity, _ = hio.read_transfer_function(tf_path)
     if spec.get("tf_to_data_range"):
-        _rescale_transfer_function(color, opacity, image)
+        rescale_transfer_function(color, opacity, image)
     unit = float(spec.get("opacity_unit_distance", 1.0))
     prop = hio.make_volume_property(color, opacity, unit)
     if spec.get("camera"):

@@ -32,7 +32,7 @@ import sys
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
-from hovr.bench import _rescale_transfer_function as rescale_transfer_function
+from hovr.bench import rescale_transfer_function
 from hovr.bench import peak_resident_mib
 from hovrtesting import Checker, tf_path
 

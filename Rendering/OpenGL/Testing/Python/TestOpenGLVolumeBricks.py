@@ -25,6 +25,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 import hovr
 from hovr import io as hio
 from hovr import methods as hm
+from hovr.bench import rescale_transfer_function
 from hovr.latency import View
 from hovrtesting import Checker, rgba, tf_path
 
@@ -63,17 +64,7 @@ def scene_for(volume, blend, shade):
     color, opacity, _ = hio.read_transfer_function(
         tf_path("iso-opaque" if blend == "iso" else "marschner-lobb-spikes"))
     low, high = volume.GetPointData().GetScalars().GetRange()
-    # The preset's nodes onto the data's range (0-1 for float, 0-255 for uint8).
-    for function, width in ((color, 6), (opacity, 4)):
-        nodes = []
-        for k in range(function.GetSize()):
-            node = [0.0] * width
-            function.GetNodeValue(k, node)
-            nodes.append(node)
-        first, last = nodes[0][0], nodes[-1][0]
-        for k, node in enumerate(nodes):
-            node[0] = low + (node[0] - first) / ((last - first) or 1.0) * (high - low)
-            function.SetNodeValue(k, node)
+    rescale_transfer_function(color, opacity, volume)  # onto 0-1 (float) or 0-255 (uint8)
     prop = hio.make_volume_property(color, opacity, 0.05)
     if blend == "iso":
         prop.GetIsoSurfaceValues().SetValue(0, low + 0.5 * (high - low))
