@@ -44,8 +44,7 @@ public:
       return true;
     }
     const vtkIdType n = array->GetNumberOfTuples();
-    if (array->GetNumberOfComponents() == 1 && array->HasStandardMemoryLayout() &&
-      IsReadInPlace(array->GetDataType()))
+    if (CanReadInPlace(array))
     {
       this->Data = array->GetVoidPointer(0);
       this->Type = array->GetDataType();
@@ -69,6 +68,16 @@ public:
     this->Type = VTK_DOUBLE;
     this->Count = n;
     return true;
+  }
+
+  /**
+   * Whether SetArray views `array` in place (one component, standard memory layout, a plain
+   * number type), not through a copy.
+   */
+  static bool CanReadInPlace(vtkDataArray* array)
+  {
+    return array && array->GetNumberOfComponents() == 1 && array->HasStandardMemoryLayout() &&
+      IsReadInPlace(array->GetDataType());
   }
 
   /**

@@ -331,13 +331,13 @@ bool vtkAnalyticVolumeMapper::UpdateBrickTextures(vtkRenderer* ren,
           });
       };
       const int origin[3] = { 0, 0, 0 };
-      created = vtkOpenGLVolumeBricks::WriteSlices(texture, origin, size, 4, texelType, fill);
+      const bool written =
+        vtkOpenGLVolumeBricks::WriteSlices(texture, origin, size, 4, texelType, fill);
       const GLenum error = glGetError();
-      if (created && error != GL_NO_ERROR)
-      {
-        failure = "OpenGL could not write the packed-corner texture";
-        created = false;
-      }
+      created = written && error == GL_NO_ERROR;
+      failure = !written ? "not enough memory"
+        : created        ? failure
+                         : "OpenGL could not write the packed-corner texture";
     }
     if (created)
     {

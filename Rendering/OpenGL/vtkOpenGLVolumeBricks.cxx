@@ -398,11 +398,11 @@ bool vtkOpenGLVolumeBricks::Update(vtkOpenGLRenderWindow* context,
     : format.Bytes == 1            ? VTK_UNSIGNED_CHAR
                                    : VTK_UNSIGNED_SHORT;
   const int filter = this->Filtered ? vtkTextureObject::Linear : vtkTextureObject::Nearest;
+  // Values read in place when they can be; others one by one (never a whole copy).
   vtkVolumeScalarView view;
-  if (scalars->GetNumberOfComponents() == 1 && !view.SetArray(scalars))
+  if (vtkVolumeScalarView::CanReadInPlace(scalars))
   {
-    why = "not enough memory to read the scalars";
-    return false;
+    view.SetArray(scalars);
   }
   vtkSmartPointer<vtkTextureObject> texture;
   const int perPage = this->AtlasTiles[0] * this->AtlasTiles[1] * this->AtlasTiles[2];

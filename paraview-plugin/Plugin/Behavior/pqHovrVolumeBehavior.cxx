@@ -182,7 +182,7 @@ void pqHovrVolumeBehavior::onViewAdded(pqView* view)
 }
 
 //------------------------------------------------------------------------------
-vtkSMProxy* pqHovrVolumeBehavior::UpdatedStatus(pqRepresentation* representation)
+vtkSMProxy* pqHovrVolumeBehavior::StatusOf(pqRepresentation* representation)
 {
   vtkSMProxy* proxy = representation->getProxy();
   // The "hovr Volume" subproxy: the owner of its exposed property.
@@ -210,7 +210,6 @@ vtkSMProxy* pqHovrVolumeBehavior::UpdatedStatus(pqRepresentation* representation
       this,
       [this, representation]() { this->Statuses.erase(representation); });
   }
-  found->second->UpdatePropertyInformation();
   return found->second;
 }
 
@@ -220,8 +219,9 @@ int pqHovrVolumeBehavior::RefinementState(pqView* view)
   int state = 0;
   for (pqRepresentation* representation : view->getRepresentations())
   {
-    if (vtkSMProxy* status = this->UpdatedStatus(representation))
+    if (vtkSMProxy* status = this->StatusOf(representation))
     {
+      status->UpdatePropertyInformation(); // one request for state, progress and count
       state = std::max(state, vtkSMPropertyHelper(status, "State").GetAsInt());
     }
   }
@@ -234,7 +234,7 @@ double pqHovrVolumeBehavior::RefinementProgress(pqView* view)
   double progress = 1.0;
   for (pqRepresentation* representation : view->getRepresentations())
   {
-    if (vtkSMProxy* status = this->UpdatedStatus(representation))
+    if (vtkSMProxy* status = this->StatusOf(representation))
     {
       progress = std::min(progress, vtkSMPropertyHelper(status, "Progress").GetAsDouble());
     }

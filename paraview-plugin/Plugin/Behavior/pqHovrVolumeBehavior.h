@@ -69,15 +69,15 @@ private Q_SLOTS:
   void onPoll();
 
 private:
-  // Where the hovr representations of a view stand: the largest refinement state.
+  // Where the hovr representations of a view stand: the largest refinement state, asked of
+  // their status proxies.
   int RefinementState(pqView* view);
-  // How far their measurements are (the least), in [0, 1].
+  // How far their measurements are (the least), in [0, 1], as the last RefinementState heard.
   double RefinementProgress(pqView* view);
   // The "HovrRefinementStatus" proxy of a visible "hovr Volume" representation (made on first
-  // use, released with the representation), its information brought up to date; null for
-  // other representations. It is asked where the volume is drawn: the server, when there is
-  // one.
-  vtkSMProxy* UpdatedStatus(pqRepresentation* representation);
+  // use, released with the representation); null for other representations. It answers where
+  // the volume is drawn: the server, when there is one.
+  vtkSMProxy* StatusOf(pqRepresentation* representation);
   std::map<pqRepresentation*, vtkSmartPointer<vtkSMProxy>> Statuses;
   // Shows what the refinement does in the status bar (made on first use).
   void ShowStatus(const QString& text);
