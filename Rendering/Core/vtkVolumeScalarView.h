@@ -20,9 +20,10 @@
 #include "vtkDataArray.h"
 #include "vtkType.h"
 
-#include <memory> // For std::shared_ptr
-#include <new>    // For std::bad_alloc
-#include <vector> // For std::vector
+#include <algorithm> // For std::fill
+#include <memory>    // For std::shared_ptr
+#include <new>       // For std::bad_alloc
+#include <vector>    // For std::vector
 
 #ifndef __VTK_WRAP__
 class vtkVolumeScalarView
@@ -176,26 +177,12 @@ public:
    */
   void GetCellCorners(vtkIdType base, vtkIdType sy, vtkIdType sz, double corner[8]) const
   {
-    switch (this->Type)
+    if (!this->Data)
     {
-      case VTK_FLOAT:
-        Gather(static_cast<const float*>(this->Data) + base, sy, sz, corner);
-        break;
-      case VTK_DOUBLE:
-        Gather(static_cast<const double*>(this->Data) + base, sy, sz, corner);
-        break;
-      case VTK_UNSIGNED_CHAR:
-        Gather(static_cast<const unsigned char*>(this->Data) + base, sy, sz, corner);
-        break;
-      case VTK_UNSIGNED_SHORT:
-        Gather(static_cast<const unsigned short*>(this->Data) + base, sy, sz, corner);
-        break;
-      default:
-        for (int c = 0; c < 8; ++c)
-        {
-          corner[c] = (*this)[base + (c & 1) + ((c >> 1) & 1) * sy + ((c >> 2) & 1) * sz];
-        }
+      std::fill(corner, corner + 8, 0.0);
+      return;
     }
+    this->Visit([&](const auto* values) { Gather(values + base, sy, sz, corner); });
   }
 
 private:

@@ -65,6 +65,15 @@ Format FormatOf(int type, int precision, int components)
   return Format{ GL_R32F, GL_FLOAT, 4, true, 0.0, 1.0 };
 }
 
+// A value as a texel of the format: (v - shift) / scale in float, else the normalised integer
+// (v + offset) * factor, rounded.
+template <typename Out>
+Out ToTexel(double v, const Format& format, double shift, double scale)
+{
+  return format.Float ? static_cast<Out>((v - shift) / scale)
+                      : static_cast<Out>(std::lround((v + format.Offset) * format.Factor));
+}
+
 // One slice (points x0..x1, y0..y1 at z) of a single-component array's values (of type S)
 // into texels of type Out.
 template <typename Out, typename S>
@@ -84,26 +93,9 @@ void FillSlice(const S* values,
   for (int y = points[2]; y <= points[3]; ++y)
   {
     const S* in = values + points[0] + row * y + plane * z;
-    if (identity)
+    for (int x = 0; x < w; ++x)
     {
-      for (int x = 0; x < w; ++x)
-      {
-        *out++ = static_cast<Out>(in[x]);
-      }
-    }
-    else if (format.Float)
-    {
-      for (int x = 0; x < w; ++x)
-      {
-        *out++ = static_cast<Out>((in[x] - shift) / scale);
-      }
-    }
-    else
-    {
-      for (int x = 0; x < w; ++x)
-      {
-        *out++ = static_cast<Out>(std::lround((in[x] + format.Offset) * format.Factor));
-      }
+      *out++ = identity ? static_cast<Out>(in[x]) : ToTexel<Out>(in[x], format, shift, scale);
     }
   }
 }
@@ -130,15 +122,7 @@ void FillSliceOf(vtkDataArray* scalars,
     {
       for (int c = 0; c < components; ++c)
       {
-        const double v = scalars->GetComponent(base + x, c);
-        if (format.Float)
-        {
-          *out++ = static_cast<Out>((v - shift) / scale);
-        }
-        else
-        {
-          *out++ = static_cast<Out>(std::lround((v + format.Offset) * format.Factor));
-        }
+        *out++ = ToTexel<Out>(scalars->GetComponent(base + x, c), format, shift, scale);
       }
     }
   }

@@ -99,11 +99,12 @@ for scalar_type, type_name in ((VTK_FLOAT, "float"), (VTK_UNSIGNED_CHAR, "uint8"
         label = "%s %s%s" % (type_name, name, " shaded" if shade else "")
         scene = scene_for(first, blend, shade)
         view = View(method, scene, 1.0)
+        mapper = view.mapper
         settle(view)
-        uploads, created = view.mapper.GetBrickUploadCount(), view.mapper.GetBrickTextureCreateCount()
+        uploads, created = mapper.GetBrickUploadCount(), mapper.GetBrickTextureCreateCount()
         view.set_input(second)
         image = settle(view)
-        uploads2, created2 = view.mapper.GetBrickUploadCount(), view.mapper.GetBrickTextureCreateCount()
+        uploads2, created2 = mapper.GetBrickUploadCount(), mapper.GetBrickTextureCreateCount()
         difference = numpy.abs(image - fresh(method, scene, second)).max()
         print("%-32s %d bricks; step 2: %d uploads, %d textures created; largest difference to a "
               "new mapper %.2e" % (label, view.mapper.GetNumberOfBricks(), uploads2 - uploads,
