@@ -12,6 +12,7 @@
 #include "vtkMinimalStandardRandomSequence.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPreIntegrationCandidateEntries.h"
 #include "vtkPreIntegrationRayMarch.h"
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
@@ -39,6 +40,7 @@ using March = vtkPreIntegrationRayMarch;
 struct Candidate
 {
   int Sizes[3];
+  double Ranges[2]; // chord and deviation extents
   bool Prefilter;
   double Error;
   double Memory;
@@ -105,79 +107,6 @@ struct ExactLookup
   }
 };
 
-// Zeroed memory is a valid array of these atomics holding 0 (a lock-free byte).
-static_assert(
-  sizeof(std::atomic<unsigned char>) == 1 && std::atomic<unsigned char>::is_always_lock_free,
-  "the entry states must be lock-free bytes");
-
-// A candidate table whose entries are integrated when a ray first reads them, by the
-// builders' own kernel (so they equal the built table's), safely from several threads.
-struct LazyPieces
-{
-  March::TableView View;
-  vtkSecondOrderPreIntegrationTableKernel Kernel;
-  const float* Samples;
-  const float* Runs;
-  float* Entries;
-  std::atomic<unsigned char>* States; // 0: not computed, 1: being computed, 2: ready
-  // The kernel's scratch: Measure() gives each chunk of rays a copy of its own, so that an
-  // entry costs no allocation.
-  mutable std::vector<float> Steps;
-
-  void Ensure(vtkIdType index) const
-  {
-    std::atomic<unsigned char>& state = this->States[index];
-    if (state.load(std::memory_order_acquire) == 2)
-    {
-      return;
-    }
-    unsigned char expected = 0;
-    if (state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel))
-    {
-      const int nc = this->View.Size[0], nb = this->View.Size[1];
-      const int i = static_cast<int>(index % nc);
-      const int j = static_cast<int>((index / nc) % nb);
-      const int k = static_cast<int>(index / (static_cast<vtkIdType>(nc) * nb));
-      const int mirror = nb - 1 - j;
-      std::vector<float>& steps = this->Steps;
-      float forward[4];
-      float* entry = this->Entries + 4 * index;
-      // As the builder: chord j > mirror is the reversed path of the mirror's.
-      if (j <= mirror)
-      {
-        this->Kernel.Integrate(i, j, k, this->Samples, this->Runs, steps, entry, nullptr);
-      }
-      else
-      {
-        this->Kernel.Integrate(i, mirror, k, this->Samples, this->Runs, steps, forward, entry);
-      }
-      state.store(2, std::memory_order_release);
-      return;
-    }
-    while (state.load(std::memory_order_acquire) != 2)
-    {
-      std::this_thread::yield();
-    }
-  }
-
-  void Read(const double v[3], double fraction, double rgba[4]) const
-  {
-    vtkIdType index[8];
-    double weight[8];
-    this->View.Corners(v, index, weight);
-    std::fill(rgba, rgba + 4, 0.0);
-    for (int c = 0; c < (1 << this->View.Dimensions); ++c)
-    {
-      this->Ensure(index[c]);
-      const float* e = this->Entries + 4 * index[c];
-      for (int k = 0; k < 4; ++k)
-      {
-        rgba[k] += weight[c] * e[k];
-      }
-    }
-    March::Scale(rgba, fraction);
-  }
-};
 }
 
 struct vtkPreIntegrationTableSizer::vtkInternals
@@ -190,10 +119,13 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double Step = 1.0;
   double Threshold = 1.0;
   vtkSecondOrderPreIntegrationTable* Table = nullptr; // the prepared one
-  vtkNew<vtkSecondOrderPreIntegrationTable> Scratch;  // candidates' iteration tables
-  std::vector<double> LastPerRay;                     // of the last Measure()
-  std::vector<double> RayKey;                         // what the rays were computed from
-  std::vector<double> ReferenceKey;                   // what their reference was computed from
+  vtkPreIntegrationCandidateEntries Entries;          // of a candidate measured alone
+  // The entries of the centre size being measured, shared by its candidates: without and
+  // with the prefilter.
+  std::unique_ptr<vtkPreIntegrationCandidateEntries> LevelEntries[2];
+  std::vector<double> LastPerRay;   // of the last Measure()
+  std::vector<double> RayKey;       // what the rays were computed from
+  std::vector<double> ReferenceKey; // what their reference was computed from
   // The pieces of every ray (ray r's from PieceStart[r] to PieceStart[r + 1]): they depend on
   // the volume, the rays, the order and the step, not on the transfer functions, and are kept
   // while those stay the same.
@@ -383,6 +315,16 @@ void vtkPreIntegrationTableSizer::GetCandidateSizes(int candidate, int sizes[3])
   if (candidate >= 0 && candidate < static_cast<int>(all.size()))
   {
     std::copy(all[candidate].Sizes, all[candidate].Sizes + 3, sizes);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizer::GetCandidateRanges(int candidate, double ranges[2]) const
+{
+  const auto& all = this->Internals->Candidates;
+  if (candidate >= 0 && candidate < static_cast<int>(all.size()))
+  {
+    std::copy(all[candidate].Ranges, all[candidate].Ranges + 2, ranges);
   }
 }
 
@@ -708,68 +650,29 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
   int deviationSize,
   double chordRange,
   double deviationRange,
-  bool prefilter)
+  bool prefilter,
+  const vtkPreIntegrationCandidateEntries* shared)
 {
   vtkInternals& I = *this->Internals;
   if (!I.Table || tableSize < 2 || chordSize < 1 || deviationSize < 1)
   {
     return -1.0;
   }
-  // A scratch table of the prepared one's settings makes the candidate's iteration table and
-  // kernel; the prepared table is not touched.
-  vtkSecondOrderPreIntegrationTable* scratch = I.Scratch;
-  scratch->GetSampler()->SetFromSampler(I.Table->GetSampler());
-  scratch->SetScalarRange(I.Table->GetScalarRange());
-  scratch->SetSegmentLength(I.Table->GetSegmentLength());
-  scratch->SetIterations(I.Table->GetIterations());
-  scratch->SetPrefilter(prefilter);
-  scratch->SetTableSize(tableSize);
-  scratch->SetChordSize(chordSize);
-  scratch->SetDeviationSize(deviationSize);
-  scratch->SetChordRange(chordRange);
-  scratch->SetDeviationRange(deviationRange);
-  if (!scratch->GetSampler()->Prepare())
+  // The candidate's entries come from the store given (the entries its centre size shares
+  // with other candidates) when they lie on its grid, else from a store of its own grid.
+  vtkPreIntegrationCandidateEntries::Lookup lookup;
+  if (!shared ||
+    !shared->MakeLookup(tableSize, chordSize, chordRange, deviationSize, deviationRange, lookup))
   {
-    return -1.0;
+    if (!I.Entries.Allocate(
+          I.Table, prefilter, tableSize, chordSize, chordRange, deviationSize, deviationRange) ||
+      !I.Entries.MakeLookup(
+        tableSize, chordSize, chordRange, deviationSize, deviationRange, lookup))
+    {
+      return -1.0;
+    }
   }
-  scratch->BuildIterationTable();
-  const vtkIdType entries = scratch->GetNumberOfEntries();
-  // The rays read a small part of a large candidate: the values are left uninitialized and
-  // the states come from calloc (zero pages mapped on first touch), so neither costs time in
-  // proportion to the candidate's size.
-  std::unique_ptr<float[]> values(new (std::nothrow) float[4 * static_cast<size_t>(entries)]);
-  std::unique_ptr<std::atomic<unsigned char>, decltype(&std::free)> states(
-    static_cast<std::atomic<unsigned char>*>(
-      std::calloc(entries, sizeof(std::atomic<unsigned char>))),
-    &std::free);
-  if (!values || !states)
-  {
-    return -1.0;
-  }
-  LazyPieces lazy;
-  const double* range = scratch->GetScalarRange();
-  lazy.View.Entries = values.get();
-  lazy.View.Dimensions = 3;
-  lazy.View.Chords = true;
-  lazy.View.Size[0] = tableSize;
-  lazy.View.Low[0] = range[0];
-  lazy.View.ToIndex[0] = (tableSize - 1) / (range[1] - range[0]);
-  const double extents[2] = { scratch->GetEffectiveChordRange(),
-    scratch->GetEffectiveDeviationRange() };
-  const int sizes[2] = { chordSize, deviationSize };
-  for (int a = 1; a < 3; ++a)
-  {
-    lazy.View.Size[a] = sizes[a - 1];
-    lazy.View.Low[a] = -extents[a - 1];
-    lazy.View.ToIndex[a] =
-      sizes[a - 1] > 1 && extents[a - 1] > 0.0 ? (sizes[a - 1] - 1) / (2.0 * extents[a - 1]) : 0.0;
-  }
-  lazy.Kernel = scratch->GetKernel();
-  lazy.Samples = scratch->GetIterationTable()->GetPointer(0);
-  lazy.Runs = scratch->GetIterationEmptyRuns()->GetPointer(0);
-  lazy.Entries = values.get();
-  lazy.States = states.get();
-  return I.MeasurePieces(lazy, I.LastPerRay);
+  return I.MeasurePieces(lookup, I.LastPerRay);
 }
 
 //------------------------------------------------------------------------------
@@ -803,16 +706,20 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     std::min(std::max(1.25 * this->MeasuredDeviationRange, 1e-3 * width), width);
 
   // Candidates: 2^k + 1 centre entries, chord and deviation spacings 1, 2, 4 or 8 times the
-  // centre spacing (odd sizes: entry 0 of the axis in the middle).
-  auto axis = [&](double extent, double spacing)
+  // centre spacing (odd sizes: entry 0 of the axis in the middle), their extents whole
+  // spacings that cover the measured ones, so that the entries of a centre size's candidates
+  // lie on one grid (the finest spacing's) and are integrated once for all of them. An axis cut
+  // to MaximumAxisSize spans the measured extent instead.
+  auto axis = [&](double extent, double spacing, double& covered)
   {
-    const double half = std::ceil(extent / spacing - 1e-9);
-    int size = static_cast<int>(std::min(2.0 * half + 1.0, 65537.0));
-    if (size > this->MaximumAxisSize)
+    const double half = std::max(std::ceil(extent / spacing - 1e-9), 1.0);
+    if (2.0 * half + 1.0 > this->MaximumAxisSize)
     {
-      size = this->MaximumAxisSize - (this->MaximumAxisSize % 2 == 0 ? 1 : 0);
+      covered = extent;
+      return std::max(this->MaximumAxisSize - (this->MaximumAxisSize % 2 == 0 ? 1 : 0), 3);
     }
-    return std::max(size, 3);
+    covered = half * spacing;
+    return static_cast<int>(2.0 * half + 1.0);
   };
   auto makeCandidate = [&](int centreLevel, int chordFactor, int deviationFactor, bool prefilter)
   {
@@ -821,28 +728,79 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     // 2^k + 1 entries, or as many as an axis can hold (a texture limit is often a power of 2).
     c.Sizes[0] = std::min((1 << centreLevel) + 1, this->MaximumAxisSize);
     const double spacing = width / (c.Sizes[0] - 1);
-    c.Sizes[1] = axis(chordRange, chordFactor * spacing);
-    c.Sizes[2] = order == 2 ? axis(deviationRange, deviationFactor * spacing) : 1;
+    c.Sizes[1] = axis(chordRange, chordFactor * spacing, c.Ranges[0]);
+    c.Sizes[2] = 1;
+    c.Ranges[1] = deviationRange;
+    if (order == 2)
+    {
+      c.Sizes[2] = axis(deviationRange, deviationFactor * spacing, c.Ranges[1]);
+    }
     c.Memory = static_cast<double>(c.Sizes[0]) * c.Sizes[1] * c.Sizes[2] * this->BytesPerEntry;
     c.Error = -1.0;
     return c;
   };
   auto fits = [&](const Candidate& c) { return c.Memory <= this->MaximumMemory; };
-  auto evaluate = [&](Candidate c)
+  auto evaluate = [&](Candidate c, const vtkPreIntegrationCandidateEntries* shared)
   {
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
     {
-      if (std::equal(c.Sizes, c.Sizes + 3, I.Candidates[i].Sizes) &&
-        c.Prefilter == I.Candidates[i].Prefilter)
+      const Candidate& o = I.Candidates[i];
+      // Of two spacings that give the same sizes, the finer one's (smaller) extents: the
+      // same memory, and entries closer to the values the rays read.
+      if (std::equal(c.Sizes, c.Sizes + 3, o.Sizes) && c.Prefilter == o.Prefilter)
       {
         return i;
       }
     }
     c.Error = this->MeasureCandidate(
-      c.Sizes[0], c.Sizes[1], c.Sizes[2], chordRange, deviationRange, c.Prefilter);
+      c.Sizes[0], c.Sizes[1], c.Sizes[2], c.Ranges[0], c.Ranges[1], c.Prefilter, shared);
     c.PerRay = I.LastPerRay;
     I.Candidates.push_back(c);
     return static_cast<int>(I.Candidates.size()) - 1;
+  };
+  // The store of a centre size's candidates (of one prefilter): the finest of their spacings
+  // on each axis, over the widest of their extents; none when it would hold more than twice
+  // the entries a table may have (the finest spacings of two axes belonging to candidates too
+  // large on the other), as the candidates then share little.
+  auto share = [&](const std::vector<Candidate>& level, bool prefilter)
+  {
+    std::unique_ptr<vtkPreIntegrationCandidateEntries> store;
+    const double spacing = width / (level.front().Sizes[0] - 1);
+    double step[2] = { 0.0, 0.0 }, extent[2] = { 0.0, 0.0 };
+    for (const Candidate& c : level)
+    {
+      for (int a = 0; a < 2; ++a)
+      {
+        const double s = c.Sizes[a + 1] > 1 ? 2.0 * c.Ranges[a] / (c.Sizes[a + 1] - 1) : 0.0;
+        step[a] = step[a] > 0.0 ? std::min(step[a], s) : s;
+        extent[a] = std::max(extent[a], c.Ranges[a]);
+      }
+    }
+    int sizes[2];
+    for (int a = 0; a < 2; ++a)
+    {
+      // A whole multiple of the centre spacing: the candidates' spacings are.
+      step[a] = std::max(std::round(step[a] / spacing), 1.0) * spacing;
+      sizes[a] =
+        order == 1 && a == 1 ? 1 : 2 * static_cast<int>(std::ceil(extent[a] / step[a] - 1e-9)) + 1;
+    }
+    const double entries = static_cast<double>(level.front().Sizes[0]) * sizes[0] * sizes[1];
+    if (entries * this->BytesPerEntry > 2.0 * this->MaximumMemory)
+    {
+      return store;
+    }
+    store.reset(new vtkPreIntegrationCandidateEntries);
+    if (!store->Allocate(table,
+          prefilter,
+          level.front().Sizes[0],
+          sizes[0],
+          0.5 * (sizes[0] - 1) * step[0],
+          sizes[1],
+          0.5 * (sizes[1] - 1) * step[1]))
+    {
+      store.reset();
+    }
+    return store;
   };
   // Mean squared error of candidate i over the rays begin, begin + stride, ...
   auto subsetError = [&](int i, int begin, int stride)
@@ -904,15 +862,6 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     const double allowed = (1.0 + this->Tolerance) * (1.0 + this->Tolerance);
     return bestSquare + mean + 2.0 * deviation <= allowed * bestSquare;
   };
-  // Good: on all the rays, and on each half of them, so that a table good only by the luck of
-  // a few rays, whose errors dominate the mean, is less likely chosen (the per-ray errors are
-  // heavy-tailed: rays grazing a sharp feature carry most of the error).
-  auto good = [&](int i)
-  {
-    return i >= 0 && I.Candidates[i].Error >= 0.0 && goodOn(i, 0, 1) && goodOn(i, 0, 2) &&
-      goodOn(i, 1, 2);
-  };
-
   // Whether candidate i is, with confidence, within half the Tolerance of the exact segment
   // model (or better): finer tables converge to that model, so the search can stop there.
   // Confidence matters: a finer table can still beat the model by far more than a level
@@ -965,6 +914,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       break; // every coarser spacing of this centre size is larger still
     }
     const bool last = (1 << level) + 1 >= this->MaximumAxisSize;
+    std::vector<Candidate> fitting[2]; // without and with the prefilter
     for (int fb : factors)
     {
       for (int fd : factors)
@@ -975,14 +925,34 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
         for (int p = 0; p < (this->MeasurePrefilter ? 2 : 1); ++p)
         {
-          const Candidate c =
-            makeCandidate(level, fb, order == 2 ? fd : 1, this->MeasurePrefilter ? p == 1 : kept);
+          const bool prefilter = this->MeasurePrefilter ? p == 1 : kept;
+          const Candidate c = makeCandidate(level, fb, order == 2 ? fd : 1, prefilter);
           if (fits(c))
           {
-            evaluate(c);
+            fitting[prefilter ? 1 : 0].push_back(c);
           }
         }
       }
+    }
+    for (int p = 0; p < 2; ++p)
+    {
+      I.LevelEntries[p] = fitting[p].empty() ? nullptr : share(fitting[p], p == 1);
+    }
+    // Finest first, as the loops made them: the coarser candidates then find most of their
+    // entries integrated.
+    for (size_t i = 0; i < std::max(fitting[0].size(), fitting[1].size()); ++i)
+    {
+      for (int p = 0; p < 2; ++p)
+      {
+        if (i < fitting[p].size())
+        {
+          evaluate(fitting[p][i], I.LevelEntries[p].get());
+        }
+      }
+    }
+    for (auto& entries : I.LevelEntries)
+    {
+      entries.reset();
     }
     ++this->NumberOfLevels;
     // The levels ahead are not known: each measured one goes half the rest of the way.
@@ -1029,26 +999,40 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     return this->Stop();
   }
 
-  // The least memory among the good candidates; of equal memory (with and without the
-  // prefilter), the smaller error.
-  for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
+  // The least memory among the candidates good on all the rays and on `halves` of their
+  // halves (so that a table good only by the luck of a few rays, whose errors dominate the
+  // mean, is less likely chosen: the per-ray errors are heavy-tailed, rays grazing a sharp
+  // feature carry most of the error); of equal memory (with and without the prefilter), the smaller
+  // error.
+  auto leastMemory = [&](int halves)
   {
-    const Candidate& c = I.Candidates[i];
-    if (!good(i))
+    int chosen = -1;
+    for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
     {
-      continue;
+      const Candidate& c = I.Candidates[i];
+      if (c.Error < 0.0 || !goodOn(i, 0, 1) ||
+        static_cast<int>(goodOn(i, 0, 2)) + static_cast<int>(goodOn(i, 1, 2)) < halves)
+      {
+        continue;
+      }
+      const Candidate* least = chosen < 0 ? nullptr : &I.Candidates[chosen];
+      if (!least || c.Memory < least->Memory ||
+        (c.Memory == least->Memory && c.Error < least->Error))
+      {
+        chosen = i;
+      }
     }
-    const Candidate* chosen =
-      this->ChosenCandidate < 0 ? nullptr : &I.Candidates[this->ChosenCandidate];
-    if (!chosen || c.Memory < chosen->Memory ||
-      (c.Memory == chosen->Memory && c.Error < chosen->Error))
-    {
-      this->ChosenCandidate = i;
-    }
+    return chosen;
+  };
+  this->ChosenCandidate = leastMemory(2);
+  if (this->ChosenCandidate < 0)
+  {
+    // The halves' bests differ by more than their rays can resolve (heavy tails), so that no
+    // candidate, often not even the best, is good on both: good on all the rays and one half.
+    this->ChosenCandidate = leastMemory(1);
   }
   if (this->ChosenCandidate < 0)
   {
-    // No candidate is good on both halves (their best differ): the best on all the rays.
     this->ChosenCandidate = best();
   }
   if (this->ChosenCandidate < 0)
@@ -1060,8 +1044,8 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   table->SetTableSize(chosen.Sizes[0]);
   table->SetChordSize(chosen.Sizes[1]);
   table->SetDeviationSize(chosen.Sizes[2]);
-  table->SetChordRange(chordRange);
-  table->SetDeviationRange(deviationRange);
+  table->SetChordRange(chosen.Ranges[0]);
+  table->SetDeviationRange(chosen.Ranges[1]);
   if (this->MeasurePrefilter)
   {
     table->SetPrefilter(chosen.Prefilter);

@@ -14,19 +14,23 @@
  *   2. it marches them as the GLSL does (vtkPreIntegrationRayMarch) and keeps the pieces
  *      (segments or slabs: their table axes and length) of every ray, which depend on the
  *      volume, the order and the step but not on the transfer functions; the largest chord
- *      |back - front| and deviation |middle - centre| they meet (times 1.25) become the
- *      table's ChordRange and DeviationRange;
+ *      |back - front| and deviation |middle - centre| they meet (times 1.25) are the extents
+ *      the table's ChordRange and DeviationRange must cover;
  *   3. it composites the kept pieces with candidate tables (vtkSecondOrderPreIntegrationTable:
  *      TableSize entries on the centre axis, 2^k + 1; chord and deviation spacings 1, 2, 4 or
- *      8 times the centre spacing), computing only the entries the rays read
- *      (vtkSecondOrderPreIntegrationTableKernel, the builders' own integration), and with the
- *      exact segment model (each piece integrated along its model path, no table);
+ *      8 times the centre spacing, over whole spacings that cover the measured extents),
+ *      computing only the entries the rays read (vtkSecondOrderPreIntegrationTableKernel, the
+ *      builders' own integration) and each once for all the candidates of a centre size
+ *      (vtkPreIntegrationCandidateEntries: their entries lie on the finest one's grid), and
+ *      with the exact segment model (each piece integrated along its model path, no table);
  *   4. it keeps the candidate with the least memory whose error against the reference (RMSE
  *      of premultiplied RGBA over the rays) is, with confidence, within Tolerance of the least
  *      error measured, on all the rays and on each half of them: the per-ray differences to
  *      the best candidate must stay below the allowance by two of their standard errors. The
  *      per-ray errors are heavy-tailed (rays grazing a sharp feature carry most of the
- *      error), and a table good only by the luck of a few rays should not be chosen.
+ *      error), and a table good only by the luck of a few rays should not be chosen. When the
+ *      halves' bests differ by more than their rays resolve, so that no candidate is good on
+ *      both, it keeps the least memory good on all the rays and one half (else the best).
  * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured,
  * centre size by centre size from the coarsest: a coarse axis can measure better than a finer
  * one on one axis and not another, so a search that skips candidates misses the best. Finer
@@ -50,6 +54,7 @@
 class vtkDataArray;
 class vtkDoubleArray;
 class vtkImageData;
+class vtkPreIntegrationCandidateEntries;
 class vtkSecondOrderPreIntegrationTable;
 
 class HOVRRENDERINGCORE_EXPORT vtkPreIntegrationTableSizer : public vtkObject
@@ -274,13 +279,15 @@ public:
   ///@{
   /**
    * What the last Choose() measured: the candidates in the order they were evaluated (their
-   * TableSize, ChordSize and DeviationSize, prefilter, error and memory in bytes), the one chosen
+   * TableSize, ChordSize and DeviationSize, ChordRange and DeviationRange, prefilter, error and
+   * memory in bytes), the one chosen
    * (-1 if none), the error of the exact segment model (no table; -1 when neither
    * MeasureExactModel nor StopAtConvergence is on), the rays that met the volume, the centre sizes
    * measured, and the wall time in seconds.
    */
   int GetNumberOfCandidates() const;
   void GetCandidateSizes(int candidate, int sizes[3]) const;
+  void GetCandidateRanges(int candidate, double ranges[2]) const;
   double GetCandidateError(int candidate) const;
   double GetCandidateMemory(int candidate) const;
   bool GetCandidatePrefilter(int candidate) const;
@@ -319,13 +326,15 @@ private:
   bool Stop();
   // Sets GetProgress() and fires ProgressEvent.
   void ReportProgress(double progress);
-  // Measure() with an explicit prefilter.
+  // Measure() with an explicit prefilter, reading the entries of shared (when given) where
+  // they lie on its grid.
   double MeasureCandidate(int tableSize,
     int chordSize,
     int deviationSize,
     double chordRange,
     double deviationRange,
-    bool prefilter);
+    bool prefilter,
+    const vtkPreIntegrationCandidateEntries* shared = nullptr);
 
   vtkPreIntegrationTableSizer(const vtkPreIntegrationTableSizer&) = delete;
   void operator=(const vtkPreIntegrationTableSizer&) = delete;

@@ -160,6 +160,23 @@ def run_case(seed, order, step, image, prop, table, sizer, judge):
             "mib": table.GetNumberOfEntries() * 8 / 2 ** 20}
 
 
+def alone_mismatches(sizer, table):
+    """Candidates of the last Choose() whose error, measured with the entries their centre size
+    shares, differs from Measure() of the candidate alone (its own entries): none may, bit for
+    bit, as shared entries are the same integrals."""
+    kept = table.GetPrefilter()
+    sizes, ranges, wrong = [0, 0, 0], [0.0, 0.0], []
+    for i in range(sizer.GetNumberOfCandidates()):
+        sizer.GetCandidateSizes(i, sizes)
+        sizer.GetCandidateRanges(i, ranges)
+        table.SetPrefilter(sizer.GetCandidatePrefilter(i))
+        alone = sizer.Measure(*sizes, *ranges)
+        if alone != sizer.GetCandidateError(i):
+            wrong.append((tuple(sizes), sizer.GetCandidateError(i), alone))
+    table.SetPrefilter(kept)
+    return wrong
+
+
 arguments = sys.argv[1:]
 if "--cases" in arguments:
     at = arguments.index("--cases")
@@ -201,6 +218,21 @@ for case in CASE_NUMBERS:
                      fresh_table.GetDeviationSize())
             c.check(fresh == result["chosen"], "seed %d: a fresh sizer chooses %s as the one "
                     "that kept its reference (%s)" % (seed, fresh, result["chosen"]))
+        if case < 4:
+            wrong = alone_mismatches(sizer, table)
+            c.check(not wrong, "seed %d order %d: %d candidates measure as alone (%s)" % (
+                seed, order, sizer.GetNumberOfCandidates(), wrong[:3]))
+            # Axes cut to a size limit and a small memory limit: candidates off the shared grid
+            # and levels without one.
+            small = hovr.vtkPreIntegrationTableSizer()
+            small.SetMaximumAxisSize(45)
+            small.SetMaximumMemory(256 * 1024)
+            small.SetMeasurePrefilter(order == 1)
+            if c.check(small.Choose(image, image.GetPointData().GetScalars(), table, order, step),
+                       "seed %d order %d: the sizer chooses under small limits" % (seed, order)):
+                wrong = alone_mismatches(small, table)
+                c.check(not wrong, "seed %d order %d: %d candidates under small limits measure "
+                        "as alone (%s)" % (seed, order, small.GetNumberOfCandidates(), wrong[:3]))
         result["label"] = "seed %d, order %d, step %g, %s, %s, unit %.2f" % (
             seed, order, step, volume_name, tf_name, prop.GetScalarOpacityUnitDistance())
         results.append(result)
