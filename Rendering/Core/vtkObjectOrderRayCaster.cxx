@@ -175,6 +175,12 @@ bool vtkObjectOrderRayCaster::vtkInternals::CheckInput(vtkImageData* input,
     return false;
   }
   scalars->GetFiniteRange(range, 0); // not empty: checked by PrepareFrame
+  const double* cover = self->ScalarRange;
+  if (cover[0] <= cover[1] && std::isfinite(cover[0]) && std::isfinite(cover[1]))
+  {
+    range[0] = std::min(range[0], cover[0]);
+    range[1] = std::max(range[1], cover[1]);
+  }
   if (std::max(std::abs(range[0]), std::abs(range[1])) > VTK_FLOAT_MAX)
   {
     vtkErrorWithObjectMacro(self,
@@ -431,6 +437,7 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
+  os << indent << "ScalarRange: " << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "\n";
   os << indent << "InstructionSet: " << this->InstructionSet << "\n";
   os << indent << "LastInstructionSet: " << this->LastInstructionSet << "\n";
   os << indent << "ShadingMode: " << this->ShadingMode << "\n";

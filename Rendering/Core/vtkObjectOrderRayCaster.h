@@ -192,6 +192,17 @@ public:
   vtkGetMacro(LeafSize, int);
   ///@}
 
+  ///@{
+  /**
+   * A scalar range the classification spans besides the range of the volume's scalars: the
+   * whole volume's, when the input is one piece of it (a rank's under MPI), so that every
+   * piece is classified alike. An empty range (low > high) or a non-finite one spans the
+   * volume's scalars alone. Initial value is (1, 0).
+   */
+  vtkSetVector2Macro(ScalarRange, double);
+  vtkGetVector2Macro(ScalarRange, double);
+  ///@}
+
   enum InstructionSets
   {
     INSTRUCTIONS_AUTOMATIC = 0, ///< AVX2 with FMA where the processor has them, else SSE2
@@ -293,6 +304,7 @@ protected:
   double MaximumSamplesPerRay = 1e5;
   int TileSize = 32;
   int LeafSize = 8;
+  double ScalarRange[2] = { 1.0, 0.0 };
   int InstructionSet = INSTRUCTIONS_AUTOMATIC;
   int LastInstructionSet = INSTRUCTIONS_AUTOMATIC;
   int ShadingMode = POST_SHADING;

@@ -224,7 +224,8 @@ void vtkPreIntegrationTable::BuildEmptyRuns()
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationTable::ComputeScalarRange(vtkDataArray* scalars,
   double dataRange[2],
-  double tableRange[2])
+  double tableRange[2],
+  const double* cover)
 {
   double range[2] = { 1.0, 0.0 };
   if (scalars && scalars->GetNumberOfTuples() > 0)
@@ -234,6 +235,11 @@ bool vtkPreIntegrationTable::ComputeScalarRange(vtkDataArray* scalars,
   if (!(range[0] <= range[1]))
   {
     return false;
+  }
+  if (cover && cover[0] <= cover[1] && std::isfinite(cover[0]) && std::isfinite(cover[1]))
+  {
+    range[0] = std::min(range[0], cover[0]);
+    range[1] = std::max(range[1], cover[1]);
   }
   dataRange[0] = tableRange[0] = range[0];
   dataRange[1] = tableRange[1] = range[1];

@@ -180,10 +180,15 @@ public:
    * The scalar range a table spans for component 0 of scalars: dataRange receives their finite
    * range (NaN and infinite values left out), tableRange the same widened by
    * max(1, 1e-6 |value|) when the data is flat, so that its one value maps into a non-empty
-   * range (1 alone vanishes next to 1e20). False, both ranges untouched, when the scalars hold
-   * no finite value (empty or all NaN).
+   * range (1 alone vanishes next to 1e20). With `cover`, a finite range that is not empty
+   * (low <= high), both span it too: the whole volume's range, when scalars are one piece of it
+   * (a rank's, under MPI), so that every piece gets the same tables. False, both ranges
+   * untouched, when the scalars hold no finite value (empty or all NaN).
    */
-  static bool ComputeScalarRange(vtkDataArray* scalars, double dataRange[2], double tableRange[2]);
+  static bool ComputeScalarRange(vtkDataArray* scalars,
+    double dataRange[2],
+    double tableRange[2],
+    const double* cover = nullptr);
 
 protected:
   vtkPreIntegrationTable();

@@ -283,7 +283,7 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
 
   // The tables: the scalar range as the CPU core takes it, one table per segment length.
   double dataRange[2], range[2];
-  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range, this->ScalarRange))
   {
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return;

@@ -574,7 +574,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
   // Raw values: those of the brick textures (analytic) or of VTK's texture (stock); the
   // transfer-function tables are VTK's, looked up from its own raw values.
   double scale, shift, vtkScale, vtkShift;
-  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(scalars, vtkScale, vtkShift);
+  // The proxy VTK draws bricks from spans ScalarRange too; VTK's own drawing spans the data.
+  vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(
+    scalars, vtkScale, vtkShift, this->Method == ANALYTIC ? this->ScalarRange : nullptr);
   scale = vtkScale;
   shift = vtkShift;
   if (this->Method == ANALYTIC)

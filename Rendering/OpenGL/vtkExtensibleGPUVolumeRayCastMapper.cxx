@@ -17,6 +17,7 @@
 #include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkPreIntegrationTable.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
@@ -299,8 +300,11 @@ void vtkExtensibleGPUVolumeRayCastMapper::DrawBrickRound(vtkRenderer* ren, vtkVo
     this->Proxy->GetPointData()->SetScalars(this->ProxyScalars);
   }
   this->ProxyScalars->SetName(scalars->GetName());
-  double range[2];
-  scalars->GetFiniteRange(range, 0);
+  double range[2], tableRange[2];
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, range, tableRange, this->ScalarRange))
+  {
+    scalars->GetFiniteRange(range, 0);
+  }
   for (vtkIdType i = 0; i < 8; ++i)
   {
     this->ProxyScalars->SetComponent(i, 0, i < 4 ? range[0] : range[1]);
@@ -448,6 +452,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
   os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
   os << indent << "MaximumBrickSize: " << this->MaximumBrickSize << "\n";
+  os << indent << "ScalarRange: " << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "\n";
   os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
   os << indent << "NumberOfBricks: " << this->Bricks->GetNumberOfBricks() << "\n";
 }
@@ -570,7 +575,8 @@ std::string vtkExtensibleGPUVolumeRayCastMapper::CheckVolumeTexture(vtkRenderer*
 //------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(vtkDataArray* scalars,
   double& scale,
-  double& shift)
+  double& shift,
+  const double* cover)
 {
   // vtkVolumeTexture uploads 8- and 16-bit integers as normalised textures (signed ones with
   // SNORM, clamped at -1) and floats as they are; wider types become floats rescaled so that
@@ -596,8 +602,11 @@ void vtkExtensibleGPUVolumeRayCastMapper::GetTextureValueMapping(vtkDataArray* s
       break;
     default:
     {
-      double range[2];
-      scalars->GetFiniteRange(range, 0);
+      double range[2], tableRange[2];
+      if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, range, tableRange, cover))
+      {
+        scalars->GetFiniteRange(range, 0);
+      }
       // The range is rounded to float before VTK computes its scale.
       const double lo = static_cast<float>(range[0]);
       const double hi = static_cast<float>(range[1]);

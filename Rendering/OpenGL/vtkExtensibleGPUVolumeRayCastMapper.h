@@ -78,9 +78,14 @@ public:
   /**
    * Affine map from the raw value VTK's volume texture returns for an array of this type to
    * the data value: value = raw * scale + shift. Depends on how vtkVolumeTexture uploads each
-   * scalar type (normalised integer formats, or a float copy rescaled to the range).
+   * scalar type (normalised integer formats, or a float copy rescaled to the range). With
+   * `cover` (a ScalarRange), the range is the scalars' widened to cover it, as the proxy VTK
+   * draws bricks from holds it.
    */
-  static void GetTextureValueMapping(vtkDataArray* scalars, double& scale, double& shift);
+  static void GetTextureValueMapping(vtkDataArray* scalars,
+    double& scale,
+    double& shift,
+    const double* cover = nullptr);
 
   /**
    * The fragment shader of the last program built with the extension, after every
@@ -118,6 +123,18 @@ public:
    */
   vtkSetClampMacro(MaximumBrickSize, int, 0, 1 << 20);
   vtkGetMacro(MaximumBrickSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * A scalar range the mapper's tables, transfer-function textures and sampling span besides
+   * the range of the scalars drawn: the whole volume's, when the input is one piece of it (a
+   * rank's under MPI, as the ParaView plugin sets it), so that every piece is drawn with the
+   * same tables and its image is the whole volume's image of that piece. An empty range
+   * (low > high) or a non-finite one spans the scalars drawn alone. Initial value is (1, 0).
+   */
+  vtkSetVector2Macro(ScalarRange, double);
+  vtkGetVector2Macro(ScalarRange, double);
   ///@}
 
   /**
@@ -367,6 +384,8 @@ protected:
   std::string FragmentShaderSource;
   std::string LastFallbackWarning;
   std::string LastEmptyWarning;
+
+  double ScalarRange[2] = { 1.0, 0.0 };
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

@@ -274,7 +274,7 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkPreIntegrationVolumeMapper::Pr
   }
 
   double dataRange[2], range[2];
-  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range))
+  if (!vtkPreIntegrationTable::ComputeScalarRange(scalars, dataRange, range, this->ScalarRange))
   {
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;

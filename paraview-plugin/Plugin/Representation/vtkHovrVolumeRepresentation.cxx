@@ -7,8 +7,12 @@
 #include "vtkAlgorithm.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkAnalyticVolumeMapper.h"
+#include "vtkCommunicator.h"
+#include "vtkDataArray.h"
+#include "vtkExtensibleGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -110,6 +114,49 @@ double vtkHovrVolumeRepresentation::ComputeAutomaticSampleDistance()
 }
 
 //------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::RequestData(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  const int result = this->Superclass::RequestData(request, inputVector, outputVector);
+  // Every rank takes part in the reduction, whatever its piece, so that none waits for a rank
+  // that left early.
+  double local[2] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX }; // low and -high
+  vtkDataObject* input = inputVector[0]->GetNumberOfInformationObjects() > 0
+    ? vtkDataObject::GetData(inputVector[0], 0)
+    : nullptr;
+  vtkDataArray* scalars = input ? this->GetInputArrayToProcess(0, input) : nullptr;
+  if (scalars && scalars->GetNumberOfTuples() > 0)
+  {
+    double range[2];
+    scalars->GetFiniteRange(range, 0);
+    if (range[0] <= range[1])
+    {
+      local[0] = range[0];
+      local[1] = -range[1];
+    }
+  }
+  double whole[2] = { local[0], local[1] };
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    controller->AllReduce(local, whole, 2, vtkCommunicator::MIN_OP);
+  }
+  const double range[2] = { whole[0], -whole[1] };
+  if (!(range[0] <= range[1]))
+  {
+    this->WholeScalarRange[0] = 1.0;
+    this->WholeScalarRange[1] = 0.0;
+  }
+  else
+  {
+    this->WholeScalarRange[0] = range[0];
+    this->WholeScalarRange[1] = range[1];
+  }
+  return result;
+}
+
+//------------------------------------------------------------------------------
 void vtkHovrVolumeRepresentation::UpdateMapperParameters()
 {
   // The mapper the Integration value chooses, in place before the superclass connects the
@@ -157,6 +204,15 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
                        "projection.");
   }
   this->WarnedDistributedProjection = distributedProjection;
+  // Every rank's tables span the whole volume's range (empty: each its own).
+  if (auto* extensible = vtkExtensibleGPUVolumeRayCastMapper::SafeDownCast(this->VolumeMapper))
+  {
+    extensible->SetScalarRange(this->WholeScalarRange);
+  }
+  else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
+  {
+    objectOrder->GetCaster()->SetScalarRange(this->WholeScalarRange);
+  }
   this->VolumeMapper->SetCropping(this->Cropping != 0);
   this->VolumeMapper->SetBlendMode(this->BlendMode);
   this->Superclass::UpdateMapperParameters();
@@ -372,4 +428,6 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OracleEpsilon: " << this->OracleEpsilon << "\n";
   os << indent << "EffectiveSampleDistance: " << this->EffectiveSampleDistance << "\n";
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
+  os << indent << "WholeScalarRange: " << this->WholeScalarRange[0] << ", "
+     << this->WholeScalarRange[1] << "\n";
 }

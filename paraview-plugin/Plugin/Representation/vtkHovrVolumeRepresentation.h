@@ -273,9 +273,23 @@ public:
    */
   int GetRefinementCount();
 
+  /**
+   * The range of the coloured array's first component (its finite values) over every rank's
+   * piece of the data, which the mappers' tables, textures and classification span on every
+   * rank, so that each rank draws its piece as one rank draws the whole volume. Empty
+   * (low > high) before the first update or without such an array.
+   */
+  vtkGetVector2Macro(WholeScalarRange, double);
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;
+
+  // The superclass's, then the whole range over the ranks (a collective call: every rank of
+  // the data server runs it).
+  int RequestData(vtkInformation* request,
+    vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
 
   void UpdateMapperParameters() override;
 
@@ -318,6 +332,7 @@ protected:
   double EffectiveSampleDistance = 0.0;
   bool WarnedDistributedProjection = false;
   bool RefineInBackground = false;
+  double WholeScalarRange[2] = { 1.0, 0.0 };
 
 private:
   vtkHovrVolumeRepresentation(const vtkHovrVolumeRepresentation&) = delete;

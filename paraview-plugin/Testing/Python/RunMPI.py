@@ -1,12 +1,13 @@
 # hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
-"""Run a pvbatch test script on one rank, then on several under MPI, the second run comparing
+"""Run a pvbatch test script on one rank, then on several under MPI, each MPI run comparing
 its images with the first's.
 
-    python3 RunMPI.py --mpiexec <mpiexec> --pvbatch <pvbatch> --ranks 2 \\
+    python3 RunMPI.py --mpiexec <mpiexec> --pvbatch <pvbatch> --ranks 2 [3 ...] \\
         --output-dir <dir> -- <script.py> [script arguments...]
 
-The one-rank run gets `--output-dir <dir>/1`; the MPI run gets `--output-dir <dir>/<ranks>
---compare-dir <dir>/1 --ranks <ranks>`. Exits with the first failing run's exit code. Both
+The one-rank run gets `--output-dir <dir>/1`; the MPI run on N ranks gets `--output-dir
+<dir>/<N> --compare-dir <dir>/1 --ranks <N>`, for each N given. Exits with the first failing
+run's exit code. Both
 runs inherit the environment (DISPLAY, PYTHONPATH); Open MPI is allowed to run as root and
 to place more ranks than cores (a CI container), through its environment variables, which
 other MPI implementations ignore. Under Xvfb, start it with -noreset: the MPI run connects
@@ -36,7 +37,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mpiexec", required=True, help="the MPI launcher")
     parser.add_argument("--pvbatch", required=True, help="the pvbatch executable")
-    parser.add_argument("--ranks", type=int, default=2, help="processes of the MPI run")
+    parser.add_argument("--ranks", type=int, nargs="+", default=[2],
+                        help="processes of the MPI runs, one run each")
     parser.add_argument("--output-dir", required=True, help="where both runs write images")
     args, script = parse_before_script(parser, "test script")
 
@@ -46,9 +48,13 @@ def main():
     code = run([args.pvbatch] + script + ["--output-dir", single], env)
     if code != 0:
         return code
-    return run([args.mpiexec, "-n", str(args.ranks), args.pvbatch] + script +
-               ["--output-dir", os.path.join(args.output_dir, str(args.ranks)),
-                "--compare-dir", single, "--ranks", str(args.ranks)], env)
+    for ranks in args.ranks:
+        code = run([args.mpiexec, "-n", str(ranks), args.pvbatch] + script +
+                   ["--output-dir", os.path.join(args.output_dir, str(ranks)),
+                    "--compare-dir", single, "--ranks", str(ranks)], env)
+        if code != 0:
+            return code
+    return 0
 
 
 if __name__ == "__main__":
