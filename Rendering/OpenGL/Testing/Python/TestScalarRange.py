@@ -1,0 +1,160 @@
+"""ScalarRange: the range a mapper's tables span besides its input's (a piece of a larger volume
+drawn as the whole volume draws it, as the ParaView plugin does on every MPI rank).
+
+Gaussian blobs (33^3) as float and as double (which VTK uploads rescaled to its range), the
+spike transfer function, 64 x 64 float images, for first- and second-order pre-integration,
+the adaptive ray, object-order ray casting and the analytic isosurface:
+- unset (1, 0), or set to the input's own range, draws the same image, bit for bit;
+- a wider range is spanned: pre-integration's table spans it exactly, and every method's image
+  changes (its tables sample the transfer function elsewhere), except the isosurface, which
+  reads no table: its image stays within float rounding (its raw-to-data mapping follows the
+  range VTK draws its bricks with; a mismatch moves the surface and changes most pixels);
+- unset again, the adaptive ray, object order and the isosurface draw their first image again,
+  bit for bit; pre-integration treats a narrower range like a time step's (its measured sizes
+  and their range stay while that range holds the data), so its table still holds the data.
+The MPI test of the plugin checks the images of pieces against one rank's whole volume.
+"""
+
+import math
+
+import numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+
+import hovr
+from hovr import io as hio
+from hovrtesting import Checker, Messages, blobs, image_from_array, rgba, spike_property
+
+c = Checker()
+
+window = vtkRenderWindow()
+window.SetOffScreenRendering(1)
+window.SetMultiSamples(0)
+window.SetAlphaBitPlanes(1)
+view = vtkRenderer()
+view.SetBackground(0.0, 0.0, 0.0)
+view.SetBackgroundAlpha(0.0)
+window.AddRenderer(view)
+window.SetSize(1, 1)
+window.Render()
+window.SetSize(64, 64)
+capture = hovr.vtkFloatRGBARenderCapture()
+capture.Attach(window)
+
+prop = spike_property()
+prop.GetIsoSurfaceValues().SetValue(0, 104.0)
+values = blobs(n=33)
+volumes = {"float": image_from_array(values.astype(numpy.float32)),
+           "double": image_from_array(values.astype(numpy.float64))}
+camera = hio.default_camera(volumes["float"].GetBounds())
+
+
+def draw(mapper, data):
+    """The float image of one frame of ``mapper`` on ``data``, and its messages."""
+    mapper.SetInputData(data)
+    messages = Messages(mapper)
+    actor = vtkVolume()
+    actor.SetMapper(mapper)
+    actor.SetProperty(prop)
+    view.RemoveAllViewProps()
+    view.AddVolume(actor)
+    view.GetActiveCamera().DeepCopy(camera)
+    view.ResetCameraClippingRange()
+    window.Render()
+    image = vtkImageData()
+    capture.Capture(image)
+    return rgba(image).astype(numpy.float64), messages
+
+
+def preintegration(order):
+    mapper = hovr.vtkPreIntegrationVolumeMapper()
+    mapper.SetIntegration(order)
+    mapper.SetSampleDistance(0.5)
+    return mapper
+
+
+def adaptive():
+    mapper = hovr.vtkAdaptiveRayVolumeMapper()
+    mapper.SetSampleDistance(0.5)
+    mapper.SetOracleMode(hovr.vtkAdaptiveRayVolumeMapper.ORACLE_MINIMUM)
+    return mapper
+
+
+class ObjectOrder:
+    """vtkObjectOrderVolumeMapper with ScalarRange on its caster, as the plugin sets it."""
+
+    def __init__(self):
+        self.mapper = hovr.vtkObjectOrderVolumeMapper()
+        self.mapper.SetSampleDistance(0.5)
+
+    def SetScalarRange(self, low, high):
+        self.mapper.GetCaster().SetScalarRange(low, high)
+
+
+def isosurface():
+    mapper = hovr.vtkAnalyticVolumeMapper()
+    mapper.SetBlendModeToIsoSurface()
+    return mapper
+
+
+def methods():
+    yield "first order", preintegration(1), "float"
+    yield "second order", preintegration(2), "float"
+    yield "adaptive ray", adaptive(), "float"
+    yield "object order", ObjectOrder(), "float"
+    yield "isosurface", isosurface(), "float"
+    yield "isosurface", isosurface(), "double"
+
+
+def rms(a, b):
+    return float(numpy.sqrt(numpy.mean((a - b) ** 2)))
+
+
+for name, holder, kind in methods():
+    mapper = getattr(holder, "mapper", holder)
+    data = volumes[kind]
+    low, high = data.GetPointData().GetScalars().GetRange()
+    label = "%s (%s)" % (name, kind)
+    camera.ParallelProjectionOn() if name == "object order" else camera.ParallelProjectionOff()
+    first, messages = draw(mapper, data)
+    c.check(first[..., 3].max() > 0.1 and not messages.errors and not messages.warnings,
+            "%s draws the volume quietly (%s)" % (label, messages.errors + messages.warnings))
+    holder.SetScalarRange(low, high)
+    own, _ = draw(mapper, data)
+    c.check(numpy.array_equal(own, first),
+            "%s: its own range as ScalarRange draws the same image (max %.2e)"
+            % (label, numpy.abs(own - first).max()))
+    wide = (low - 2.0 * (high - low), high + (high - low))
+    holder.SetScalarRange(*wide)
+    widened, messages = draw(mapper, data)
+    change = rms(widened, first)
+    if name.startswith("isosurface"):
+        c.check(change < 1e-3 and not messages.errors,
+                "%s: a wider ScalarRange leaves the surface (RMS %.2e)" % (label, change))
+    else:
+        c.check(change > 0.0 and not messages.errors,
+                "%s: a wider ScalarRange changes the tables' samples (RMS %.2e)"
+                % (label, change))
+    measured = name.endswith("order") and name != "object order"
+    if measured:
+        spanned = mapper.GetActiveTable().GetScalarRange()
+        c.check(numpy.allclose(spanned, wide, rtol=0, atol=1e-9),
+                "%s: the table spans the wider range %s (%s)" % (label, wide, spanned))
+        # Like a time step's new range: the measured sizes and their range stay while that
+        # range holds the data.
+        for inside in ((low + 0.2 * (high - low), high - 0.2 * (high - low)),
+                       (math.nan, math.nan), (1.0, 0.0)):
+            holder.SetScalarRange(*inside)
+            draw(mapper, data)
+            spanned = mapper.GetActiveTable().GetScalarRange()
+            c.check(spanned[0] <= low and spanned[1] >= high,
+                    "%s: with ScalarRange %s the table holds the data's range (%s)"
+                    % (label, inside, spanned))
+    else:
+        holder.SetScalarRange(1.0, 0.0)
+        again, _ = draw(mapper, data)
+        c.check(numpy.array_equal(again, first), "%s: unset again, the first image again (max "
+                "%.2e)" % (label, numpy.abs(again - first).max()))
+
+c.finish()
