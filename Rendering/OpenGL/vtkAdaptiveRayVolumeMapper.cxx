@@ -156,8 +156,11 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAdaptiveRayVolumeMapper::Prepa
     return DrawNothing;
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  // The slices are anchored to the whole volume's box (the input's, or WholeBounds' when it is a
+  // piece of a larger volume), so that every piece samples on the same slices.
   double bounds[6];
   input->GetBounds(bounds);
+  this->CoverWholeBounds(bounds);
   const double lo[3] = { bounds[0], bounds[2], bounds[4] };
   const double hi[3] = { bounds[1], bounds[3], bounds[5] };
 

@@ -13,7 +13,8 @@
  *     through the corner of the volume's box nearest to the camera; with a perspective camera
  *     they are spheres around the eye (the shells the paper names as future work, line 250),
  *     slice 0 through the point of the box nearest to the eye (radius 0 when the eye is
- *     inside);
+ *     inside). The box is the input's, widened to WholeBounds when the input is a piece of a
+ *     larger volume, so that every piece samples the whole volume's slices;
  *   - at each sample the oracle gives a preferred distance d = clamp(oracle / Delta, 1,
  *     2^MaximumLevel) in slices: the point array OracleArrayName (world units, as
  *     vtkAdaptiveSamplingOracle produces it), uploaded as float texels and interpolated

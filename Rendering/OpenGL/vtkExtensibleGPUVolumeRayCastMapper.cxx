@@ -446,6 +446,25 @@ void vtkExtensibleGPUVolumeRayCastMapper::ReleaseGraphicsResources(vtkWindow* wi
 }
 
 //------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::CoverWholeBounds(double bounds[6]) const
+{
+  const double* whole = this->WholeBounds;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(whole[2 * a] <= whole[2 * a + 1]) || !std::isfinite(whole[2 * a]) ||
+      !std::isfinite(whole[2 * a + 1]))
+    {
+      return;
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] = std::min(bounds[2 * a], whole[2 * a]);
+    bounds[2 * a + 1] = std::max(bounds[2 * a + 1], whole[2 * a + 1]);
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -453,6 +472,12 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
   os << indent << "MaximumBrickSize: " << this->MaximumBrickSize << "\n";
   os << indent << "ScalarRange: " << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "\n";
+  os << indent << "WholeBounds:";
+  for (double b : this->WholeBounds)
+  {
+    os << " " << b;
+  }
+  os << "\n";
   os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";
   os << indent << "NumberOfBricks: " << this->Bricks->GetNumberOfBricks() << "\n";
 }

@@ -137,6 +137,19 @@ public:
   vtkGetVector2Macro(ScalarRange, double);
   ///@}
 
+  ///@{
+  /**
+   * Bounds (dataset coordinates, xmin, xmax, ymin, ymax, zmin, zmax) that the mapper's sampling
+   * grid is anchored to besides its input's: the whole volume's, when the input is one piece of
+   * it (a rank's under MPI, as the ParaView plugin sets them), so that every piece samples on the
+   * grid of the whole. Empty bounds (a minimum above its maximum) anchor to the input's own.
+   * The methods whose grid is anchored to the volume (the adaptive ray's slices) read them; the
+   * others sample on a grid anchored to the camera. Initial value is (1, 0, 1, 0, 1, 0).
+   */
+  vtkSetVector6Macro(WholeBounds, double);
+  vtkGetVector6Macro(WholeBounds, double);
+  ///@}
+
   /**
    * Bricks of the last frame drawn brick by brick, and the bytes of GPU memory their textures
    * hold (0 for methods that draw from VTK's volume texture).
@@ -386,6 +399,10 @@ protected:
   std::string LastEmptyWarning;
 
   double ScalarRange[2] = { 1.0, 0.0 };
+  double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
+
+  // bounds widened to cover WholeBounds when those are not empty.
+  void CoverWholeBounds(double bounds[6]) const;
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

@@ -2,7 +2,8 @@
 // Rendering on GPUs", Sec. 3.1) and first-order pre-integrated segments of variable length
 // (Sec. 3.3, Fig. 6). Samples lie on a global grid of slices spaced one sample distance:
 // planes perpendicular to the view (parallel camera) or spheres around the eye (perspective),
-// slice coordinate 0 at the volume's point nearest to the camera. From a sample on slice i
+// slice coordinate 0 at the whole volume's point nearest to the camera (the input's box, or
+// WholeBounds when the input is a piece). From a sample on slice i
 // with oracle distance d (in slices) the next sample is slice (floor(i / 2^q) + 1) 2^q,
 // q = min(floor(log2 d), l_max) (the closed form of the skip condition of line 74, as
 // vtkAdaptiveSamplingRayCaster::NextSampleSlice computes it). One iteration of VTK's ray loop

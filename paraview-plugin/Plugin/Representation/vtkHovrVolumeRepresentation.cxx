@@ -9,6 +9,7 @@
 #include "vtkAnalyticVolumeMapper.h"
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
+#include "vtkDataSet.h"
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -26,6 +27,7 @@
 #include "vtkRectilinearGrid.h"
 #include "vtkVolumeProperty.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -120,8 +122,9 @@ int vtkHovrVolumeRepresentation::RequestData(vtkInformation* request,
 {
   const int result = this->Superclass::RequestData(request, inputVector, outputVector);
   // Every rank takes part in the reduction, whatever its piece, so that none waits for a rank
-  // that left early.
-  double local[2] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX }; // low and -high
+  // that left early. Minima of: the range's low, -high, and the bounds' lows and -highs.
+  double local[8];
+  std::fill(local, local + 8, VTK_DOUBLE_MAX);
   vtkDataObject* input = inputVector[0]->GetNumberOfInformationObjects() > 0
     ? vtkDataObject::GetData(inputVector[0], 0)
     : nullptr;
@@ -136,22 +139,31 @@ int vtkHovrVolumeRepresentation::RequestData(vtkInformation* request,
       local[1] = -range[1];
     }
   }
-  double whole[2] = { local[0], local[1] };
+  auto* dataSet = vtkDataSet::SafeDownCast(input);
+  if (dataSet && dataSet->GetNumberOfPoints() > 0)
+  {
+    double bounds[6];
+    dataSet->GetBounds(bounds);
+    for (int k = 0; k < 6; ++k)
+    {
+      local[2 + k] = k % 2 == 0 ? bounds[k] : -bounds[k];
+    }
+  }
+  double whole[8];
+  std::copy(local, local + 8, whole);
   auto* controller = vtkMultiProcessController::GetGlobalController();
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
-    controller->AllReduce(local, whole, 2, vtkCommunicator::MIN_OP);
+    controller->AllReduce(local, whole, 8, vtkCommunicator::MIN_OP);
   }
   const double range[2] = { whole[0], -whole[1] };
-  if (!(range[0] <= range[1]))
+  const bool any = range[0] <= range[1];
+  this->WholeScalarRange[0] = any ? range[0] : 1.0;
+  this->WholeScalarRange[1] = any ? range[1] : 0.0;
+  for (int k = 0; k < 6; ++k)
   {
-    this->WholeScalarRange[0] = 1.0;
-    this->WholeScalarRange[1] = 0.0;
-  }
-  else
-  {
-    this->WholeScalarRange[0] = range[0];
-    this->WholeScalarRange[1] = range[1];
+    const double b = k % 2 == 0 ? whole[2 + k] : -whole[2 + k];
+    this->WholeBounds[k] = whole[2] <= -whole[3] ? b : (k % 2 == 0 ? 1.0 : 0.0);
   }
   return result;
 }
@@ -208,6 +220,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   if (auto* extensible = vtkExtensibleGPUVolumeRayCastMapper::SafeDownCast(this->VolumeMapper))
   {
     extensible->SetScalarRange(this->WholeScalarRange);
+    extensible->SetWholeBounds(this->WholeBounds);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -430,4 +443,10 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
   os << indent << "WholeScalarRange: " << this->WholeScalarRange[0] << ", "
      << this->WholeScalarRange[1] << "\n";
+  os << indent << "WholeBounds:";
+  for (double b : this->WholeBounds)
+  {
+    os << " " << b;
+  }
+  os << "\n";
 }

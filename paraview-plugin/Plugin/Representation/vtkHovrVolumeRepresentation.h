@@ -281,12 +281,19 @@ public:
    */
   vtkGetVector2Macro(WholeScalarRange, double);
 
+  /**
+   * The bounds of every rank's piece together (the whole volume's), which the mappers anchor
+   * their sampling grids to on every rank. Empty (a minimum above its maximum) before the
+   * first update or without data.
+   */
+  vtkGetVector6Macro(WholeBounds, double);
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;
 
-  // The superclass's, then the whole range over the ranks (a collective call: every rank of
-  // the data server runs it).
+  // The superclass's, then the whole range and bounds over the ranks (a collective call: every
+  // rank of the data server runs it).
   int RequestData(vtkInformation* request,
     vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
@@ -333,6 +340,7 @@ protected:
   bool WarnedDistributedProjection = false;
   bool RefineInBackground = false;
   double WholeScalarRange[2] = { 1.0, 0.0 };
+  double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
 
 private:
   vtkHovrVolumeRepresentation(const vtkHovrVolumeRepresentation&) = delete;
