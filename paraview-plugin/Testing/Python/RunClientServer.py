@@ -2,13 +2,15 @@
 """Run a pvpython test script as the client of a pvserver started for it.
 
     python3 RunClientServer.py --pvserver <pvserver> --pvpython <pvpython> \\
-        -- <script.py> [script arguments...]
+        [--mpiexec <mpiexec> --server-ranks N] -- <script.py> [script arguments...]
 
-Starts pvserver with off-screen rendering on a free local port, runs the script with
+Starts pvserver with off-screen rendering on a free local port (on N ranks under mpiexec when
+given, Open MPI allowed to run as root and to place more ranks than cores), runs the script with
 `--server localhost:<port>` appended, and exits with the script's exit code (1 if the server
 could not be started). Both processes inherit the environment (DISPLAY, PYTHONPATH).
 """
 import argparse
+import os
 import socket
 import subprocess
 import sys
@@ -41,12 +43,19 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pvserver", required=True, help="the pvserver executable")
     parser.add_argument("--pvpython", required=True, help="the pvpython executable")
+    parser.add_argument("--mpiexec", help="the MPI launcher, to start pvserver on several ranks")
+    parser.add_argument("--server-ranks", type=int, default=1, help="pvserver's ranks")
     args, client = parse_before_script(parser, "client script")
 
     port = free_port()
     # Without --force-offscreen-rendering pvserver aborts on the X connection under Xvfb.
-    server = subprocess.Popen([args.pvserver, "--force-offscreen-rendering",
-                               "--server-port=%d" % port])
+    command = [args.pvserver, "--force-offscreen-rendering", "--server-port=%d" % port]
+    env = None
+    if args.mpiexec and args.server_ranks > 1:
+        command = [args.mpiexec, "-n", str(args.server_ranks)] + command
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                   OMPI_MCA_rmaps_base_oversubscribe="1")
+    server = subprocess.Popen(command, env=env)
     try:
         result = subprocess.run([args.pvpython] + client + ["--server", "localhost:%d" % port],
                                 timeout=CLIENT_TIMEOUT)

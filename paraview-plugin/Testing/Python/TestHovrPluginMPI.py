@@ -1,13 +1,15 @@
 # hovr: higher-order volume rendering for VTK. BSD 3-Clause licence, see LICENSE.
 """pvbatch test of the hovr plugin on distributed data (run by RunMPI.py, once on one rank and
-once under MPI).
+then under MPI), or the same as the client of a pvserver on several ranks (RunClientServer.py).
 
 Renders a semi-transparent Marschner-Lobb volume with the "hovr Volume" representation in each
 of Stock, First-order, Second-order, Analytic isosurface and Object-order (CPU) integration,
 and writes one image per method; Analytic MIP warns on more than one rank (once), and not on
-one. With --compare-dir (the run under MPI), it also checks that
-  - pvbatch runs on --ranks processes and the Marschner-Lobb source is split between them
-    (rank 0 holds a part of the volume, not all of it);
+one. Then a second scene whose pieces cover different parts of the scalar range (see
+ramp_scene) in every method but the projections. With --compare-dir (the runs on several
+ranks), it also checks that
+  - pvbatch (or pvserver) runs on --ranks processes and the Marschner-Lobb source is split
+    between them (in pvbatch: rank 0 holds a part of the volume, not all of it);
   - each method's image matches the one-rank image of --compare-dir: every rank draws its own
     piece, and ParaView's ordered compositing joins them without seams or doubled opacity;
   - that tolerance is well below the change a quarter more opacity makes (a piece drawn
@@ -16,12 +18,14 @@ one. With --compare-dir (the run under MPI), it also checks that
     pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir>
     mpiexec -n 2 pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir2> \
         --compare-dir <dir> --ranks 2
+    pvpython TestHovrPluginMPI.py ... --ranks 2 --server <host>:<port>   (a 2-rank pvserver)
 """
 import argparse
 import os
 
-from paraview.simple import (ColorBy, GetColorTransferFunction, GetOpacityTransferFunction,
-                             LoadPlugin, Render, Show)
+from paraview import servermanager
+from paraview.simple import (ColorBy, Connect, Disconnect, GetColorTransferFunction,
+                             GetOpacityTransferFunction, LoadPlugin, Render, Show)
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 
 # The checker and image helpers of the plugin's main test (this script's directory).
@@ -50,6 +54,8 @@ def parse_arguments():
     parser.add_argument("--output-dir", required=True, help="where the images are written")
     parser.add_argument("--compare-dir", help="images of a one-rank run to compare with")
     parser.add_argument("--ranks", type=int, default=1, help="processes expected")
+    parser.add_argument("--server", help="host:port of a pvserver (on --ranks ranks) to connect "
+                        "to; without it the script runs in pvbatch")
     return parser.parse_args()
 
 
@@ -63,17 +69,24 @@ def main():
     checker = Checker()
     check = checker.check
 
+    if args.server:
+        host, port = args.server.rsplit(":", 1)
+        Connect(host, int(port))
+        LoadPlugin(args.plugin, remote=True, ns=globals())
+        ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+        check(ranks == args.ranks, "pvserver runs on %d processes (%d)" % (args.ranks, ranks))
     LoadPlugin(args.plugin, remote=False, ns=globals())
-    ranks = vtkMultiProcessController.GetGlobalController().GetNumberOfProcesses()
-    check(ranks == args.ranks, "pvbatch runs on %d processes (%d)" % (args.ranks, ranks))
+    if not args.server:
+        ranks = vtkMultiProcessController.GetGlobalController().GetNumberOfProcesses()
+        check(ranks == args.ranks, "pvbatch runs on %d processes (%d)" % (args.ranks, ranks))
 
     source = globals()["MarschnerLobb"](Dimensions=DIMENSIONS)
     source.UpdatePipeline()
     # This script runs on rank 0 (pvbatch's satellites only serve it): its local output is
     # rank 0's piece.
-    local = source.GetClientSideObject().GetOutputDataObject(0).GetNumberOfPoints()
     whole = DIMENSIONS[0] * DIMENSIONS[1] * DIMENSIONS[2]
-    if ranks > 1:
+    if ranks > 1 and not args.server:  # a pvserver's client holds no piece
+        local = source.GetClientSideObject().GetOutputDataObject(0).GetNumberOfPoints()
         check(0 < local < whole, "the source is split: rank 0 holds %d of %d points"
               % (local, whole))
 
@@ -123,9 +136,10 @@ def main():
     Render(view)
     Render(view)
     projection = [w for w in warnings if "Analytic MIP on %d ranks" % ranks in w]
-    check(len(projection) == (1 if ranks > 1 else 0) and len(warnings) == len(projection),
-          "Analytic MIP on %d rank(s): %d warning(s) about compositing the pieces, %d in all"
-          % (ranks, len(projection), len(warnings)))
+    if not args.server:  # a pvserver's ranks warn in their own log
+        check(len(projection) == (1 if ranks > 1 else 0) and len(warnings) == len(projection),
+              "Analytic MIP on %d rank(s): %d warning(s) about compositing the pieces, %d in all"
+              % (ranks, len(projection), len(warnings)))
 
     if args.compare_dir:
         for method in METHODS:
@@ -143,6 +157,8 @@ def main():
               "more opacity (RMS %.2f)" % denser)
 
     ramp_scene(args, ranks, view, source, check)
+    if args.server:
+        Disconnect()  # lets the pvserver exit
     return checker.failures
 
 
@@ -177,18 +193,20 @@ def ramp_scene(args, ranks, view, source, check):
     Render(view)
 
     whole = ramp.PointData["Ramp"].GetRange()
-    # The information property asks rank 0's representation (pvbatch's scripts run there).
-    hovr = display.SMProxy.GetProperty("HovrWholeScalarRange").GetParent()
-    hovr.UpdatePropertyInformation()
-    spanned = [hovr.GetProperty("HovrWholeScalarRange").GetElement(k) for k in (0, 1)]
-    local = ramp.GetClientSideObject().GetOutputDataObject(0).GetPointData().GetArray(
-        "Ramp").GetRange()
-    check(abs(spanned[0] - whole[0]) < 1e-9 and abs(spanned[1] - whole[1]) < 1e-9,
-          "rank 0's representation spans the whole range %s (%s), not its piece's %s"
-          % (whole, spanned, local))
-    if ranks > 1:
-        check(local[0] > whole[0] + 0.1 or local[1] < whole[1] - 0.1,
-              "rank 0's piece covers a part of the range (%s of %s)" % (local, whole))
+    if not args.server:
+        # The information property asks rank 0's representation (pvbatch's scripts run there;
+        # a pvserver's client would ask its own twin, which holds no data).
+        hovr = display.SMProxy.GetProperty("HovrWholeScalarRange").GetParent()
+        hovr.UpdatePropertyInformation()
+        spanned = [hovr.GetProperty("HovrWholeScalarRange").GetElement(k) for k in (0, 1)]
+        local = ramp.GetClientSideObject().GetOutputDataObject(0).GetPointData().GetArray(
+            "Ramp").GetRange()
+        check(abs(spanned[0] - whole[0]) < 1e-9 and abs(spanned[1] - whole[1]) < 1e-9,
+              "rank 0's representation spans the whole range %s (%s), not its piece's %s"
+              % (whole, spanned, local))
+        if ranks > 1:
+            check(local[0] > whole[0] + 0.1 or local[1] < whole[1] - 0.1,
+                  "rank 0's piece covers a part of the range (%s of %s)" % (local, whole))
 
     images = {}
     for method in RAMP_METHODS:
