@@ -18,6 +18,7 @@
 #include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlaneCollection.h"
+#include "vtkPreIntegrationTable.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
@@ -519,6 +520,9 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     vtkErrorMacro("The scalars hold no finite value (all NaN); not drawing.");
     return DrawNothing;
   }
+  double tableRange[2];
+  vtkPreIntegrationTable::ComputeScalarRange(
+    scalars, this->DepthRange, tableRange, this->ScalarRange);
   if (this->Method == STOCK && IsAnalyticBlend(this->BlendMode) && this->HasNaN(scalars))
   {
     // VTK's sampled projections and isosurface take NaN samples into their comparisons.
@@ -697,8 +701,11 @@ vtkExtensibleGPUVolumeRayCastMapper::FramePlan vtkAnalyticVolumeMapper::PrepareE
     this->BlockTextureMemorySize = 0;
   }
 
+  // Rounds for several bricks, and for one when the depth comes from the extremum (which the
+  // last round reads).
   this->Rounds = this->Method == ANALYTIC && this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND &&
-    this->GetNumberOfBricks() > 1;
+    (this->GetNumberOfBricks() > 1 ||
+      (this->ExtremumDepth && this->OutputQuantity == OUTPUT_COLOR));
   std::ostringstream key;
   key << this->Rounds << " " << this->Method << " " << this->BlockSize << " " << this->BlendMode
       << " " << this->IsoRaw.size() << " " << property->GetShade(0) << " " << this->OutputQuantity
@@ -865,7 +872,9 @@ void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
 {
   const bool projection = this->BlendMode != vtkVolumeMapper::ISOSURFACE_BLEND;
   vtkOpenGLRenderWindow* context = this->Context;
-  if (!projection || this->GetNumberOfBricks() < 2 || !context)
+  const bool colour = this->OutputQuantity == OUTPUT_COLOR;
+  const bool depth = projection && colour && this->ExtremumDepth;
+  if (!projection || (this->GetNumberOfBricks() < 2 && !depth) || !context)
   {
     this->Superclass::DrawBrickedFrame(ren, vol);
     return;
@@ -893,7 +902,6 @@ void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
   };
   target(this->ExtremeTexture);
   target(this->ColourTexture);
-  const bool colour = this->OutputQuantity == OUTPUT_COLOR;
   const bool maximum = this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
   const float inf = std::numeric_limits<float>::infinity();
   {
@@ -941,6 +949,11 @@ void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
   state->vtkglDepthMask(GL_FALSE);
   int width, height, x0, y0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (depth)
+  {
+    this->DrawWithExtremumDepth(ren, maximum);
+    return;
+  }
   if (colour)
   {
     state->vtkglEnable(GL_BLEND);
@@ -992,11 +1005,72 @@ void vtkAnalyticVolumeMapper::DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol)
 }
 
 //------------------------------------------------------------------------------
+void vtkAnalyticVolumeMapper::DrawWithExtremumDepth(vtkRenderer* ren, bool maximum)
+{
+  // Over the frame, as the colour copy, and each met pixel's depth from its extremum: the
+  // depth test passes always (a disabled test would not write the depth).
+  vtkOpenGLRenderWindow* context = this->Context;
+  vtkOpenGLState* state = context->GetState();
+  if (!this->DepthCopy)
+  {
+    this->DepthCopy.reset(new vtkOpenGLQuadHelper(context,
+      nullptr,
+      "//VTK::System::Dec\n"
+      "in vec2 texCoord;\n"
+      "uniform sampler2D colours;\n"
+      "uniform sampler2D extremes;\n"
+      "uniform vec2 depthMap;\n"
+      "//VTK::Output::Dec\n"
+      "void main()\n"
+      "{\n"
+      "  vec4 e = texture(extremes, texCoord);\n"
+      "  if (e.w == 0.0)\n"
+      "  {\n"
+      "    discard;\n"
+      "  }\n"
+      "  gl_FragData[0] = texture(colours, texCoord);\n"
+      "  gl_FragDepth = clamp(depthMap.x + depthMap.y * e.x, 0.25, 0.75);\n"
+      "}\n",
+      ""));
+  }
+  // MIP: 0.75 - 0.5 u; MinIP: 0.25 + 0.5 u; u = (e - low) / (high - low).
+  const double low = this->DepthRange[0];
+  const double width = this->DepthRange[1] > low ? this->DepthRange[1] - low : 1.0;
+  const float depthMap[2] = { static_cast<float>(
+                                maximum ? 0.75 + 0.5 * low / width : 0.25 - 0.5 * low / width),
+    static_cast<float>((maximum ? -0.5 : 0.5) / width) };
+  vtkOpenGLState::ScopedglBlendFuncSeparate blendSaver(state);
+  vtkOpenGLState::ScopedglEnableDisable blendEnabled(state, GL_BLEND);
+  vtkOpenGLState::ScopedglEnableDisable depthTest(state, GL_DEPTH_TEST);
+  vtkOpenGLState::ScopedglDepthMask depthMask(state);
+  vtkOpenGLState::ScopedglDepthFunc depthFunc(state);
+  state->vtkglEnable(GL_BLEND);
+  state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  state->vtkglEnable(GL_DEPTH_TEST);
+  state->vtkglDepthFunc(GL_ALWAYS);
+  state->vtkglDepthMask(GL_TRUE);
+  context->GetShaderCache()->ReadyShaderProgram(this->DepthCopy->Program);
+  this->ColourTexture->Activate();
+  this->ExtremeTexture->Activate();
+  this->DepthCopy->Program->SetUniformi("colours", this->ColourTexture->GetTextureUnit());
+  this->DepthCopy->Program->SetUniformi("extremes", this->ExtremeTexture->GetTextureUnit());
+  this->DepthCopy->Program->SetUniform2f("depthMap", depthMap);
+  int width_, height, x0, y0;
+  ren->GetTiledSizeAndOrigin(&width_, &height, &x0, &y0);
+  vtkOpenGLState::ScopedglViewport viewport(state);
+  state->vtkglViewport(x0, y0, width_, height);
+  this->DepthCopy->Render();
+  this->ExtremeTexture->Deactivate();
+  this->ColourTexture->Deactivate();
+}
+
+//------------------------------------------------------------------------------
 void vtkAnalyticVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "OutputQuantity: " << this->OutputQuantity << "\n";
+  os << indent << "ExtremumDepth: " << (this->ExtremumDepth ? "On" : "Off") << "\n";
   os << indent << "BlockSize: " << this->BlockSize << "\n";
   os << indent << "BlockTextureMemorySize: " << this->BlockTextureMemorySize << "\n";
   os << indent << "CornerPacking: " << this->CornerPacking << "\n";

@@ -100,6 +100,22 @@ public:
 
   ///@{
   /**
+   * For the projections (MIP, MinIP) with Method ANALYTIC and OutputQuantity OUTPUT_COLOR:
+   * write each pixel's depth from its extremum, nearer for a larger maximum (a smaller
+   * minimum): 0.75 - 0.5 u for MIP, 0.25 + 0.5 u for MinIP, u the extremum's place in the
+   * scalar range (ScalarRange, when set, else the data's). A compositor that keeps the nearest
+   * fragment of several images (IceT's z-buffer compositing, ParaView's on several ranks
+   * without ordered compositing) then keeps the pixel of the piece that holds the extremum:
+   * the projection of the whole volume. Pixels no ray meets keep their depth. Initial value is
+   * false.
+   */
+  vtkSetMacro(ExtremumDepth, bool);
+  vtkGetMacro(ExtremumDepth, bool);
+  vtkBooleanMacro(ExtremumDepth, bool);
+  ///@}
+
+  ///@{
+  /**
    * Edge of the blocks, in cells, for empty-space skipping: a 3D texture holds the range of
    * the points of each block; a ray walks the blocks and enters only those that may hold an
    * isovalue (or, for the projections, beat the extremum found so far), cell by cell. The
@@ -161,6 +177,8 @@ protected:
   void DeactivateExtensionTextures() override;
   void ReleaseExtensionResources(vtkWindow* window) override;
   void DrawBrickedFrame(vtkRenderer* ren, vtkVolume* vol) override;
+  // The colour target over the frame, with each pixel's depth from its extremum.
+  void DrawWithExtremumDepth(vtkRenderer* ren, bool maximum);
 
   // Build and upload each brick's block ranges (BlockSize) and, when PackedThisFrame, packed
   // corners, unless they are current; false when a texture could not be made.
@@ -179,6 +197,8 @@ protected:
 
   int Method = ANALYTIC;
   int OutputQuantity = OUTPUT_COLOR;
+  bool ExtremumDepth = false;
+  double DepthRange[2] = { 0.0, 1.0 }; // the scalar range the depth maps (data units)
   int BlockSize = 8;
   vtkIdType BlockTextureMemorySize = 0;
   std::vector<vtkSmartPointer<vtkTextureObject>> BlockTextures; // per brick
@@ -216,6 +236,7 @@ protected:
   vtkTextureObject* ColourTexture;
   vtkOpenGLFramebufferObject* Targets;
   std::unique_ptr<vtkOpenGLQuadHelper> ExtremeCopy;
+  std::unique_ptr<vtkOpenGLQuadHelper> DepthCopy; // the colour, with depth from the extremum
 
 private:
   vtkAnalyticVolumeMapper(const vtkAnalyticVolumeMapper&) = delete;

@@ -20,6 +20,8 @@
 #include "vtkObjectOrderRayCaster.h"
 #include "vtkObjectOrderVolumeMapper.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "vtkPVRenderView.h"
+#include "vtkPVView.h"
 #include "vtkPreIntegrationTableRefiner.h"
 #include "vtkPreIntegrationTableSizing.h"
 #include "vtkPreIntegrationVolumeMapper.h"
@@ -198,24 +200,24 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     chosen->SetInputConnection(data);
   }
   this->VolumeMapper = chosen;
-  // ParaView joins the ranks' images front to back ("over"), which is not the maximum or
-  // minimum over the pieces: say so rather than draw a silently different image.
+  // On several ranks a projection's pixels are composited by depth (see ProcessViewRequest),
+  // unless another representation makes the view composite front to back ("over"), which is
+  // not the maximum or minimum over the pieces: say so rather than draw a silently different
+  // image.
   auto* controller = vtkMultiProcessController::GetGlobalController();
   const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
-  const bool distributedProjection =
-    ranks > 1 && (this->Integration == ANALYTIC_MIP || this->Integration == ANALYTIC_MINIP);
-  if (distributedProjection && !this->WarnedDistributedProjection &&
-    controller->GetLocalProcessId() == 0)
+  const bool overProjection = this->DistributedProjection() && this->OrderedCompositingInView;
+  if (overProjection && !this->WarnedDistributedProjection && controller->GetLocalProcessId() == 0)
   {
     vtkWarningMacro(<< (this->Integration == ANALYTIC_MIP ? "Analytic MIP" : "Analytic MinIP")
                     << " on " << ranks
-                    << " ranks: each rank projects only its piece of the volume and ParaView "
-                       "composites the pieces' images front to back, not by maximum or "
-                       "minimum, so where pieces overlap on screen the image is not the "
-                       "projection of the whole volume. Render on one rank for an exact "
-                       "projection.");
+                    << " ranks with another representation that needs ordered compositing: "
+                       "ParaView composites the pieces' images front to back, not by maximum "
+                       "or minimum, so where pieces overlap on screen the image is not the "
+                       "projection of the whole volume. Hide the other representations, or "
+                       "render on one rank, for an exact projection.");
   }
-  this->WarnedDistributedProjection = distributedProjection;
+  this->WarnedDistributedProjection = overProjection;
   // Every rank's tables span the whole volume's range (empty: each its own).
   if (auto* extensible = vtkExtensibleGPUVolumeRayCastMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -319,6 +321,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   else if (auto* analyticMapper = vtkAnalyticVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
     analyticMapper->SetAutoAdjustSampleDistances(0);
+    analyticMapper->SetExtremumDepth(this->DistributedProjection());
     analyticMapper->SetBlendMode(this->Integration == ANALYTIC_ISOSURFACE
         ? vtkVolumeMapper::ISOSURFACE_BLEND
         : (this->Integration == ANALYTIC_MIP ? vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
@@ -346,6 +349,56 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     }
     this->EffectiveSampleDistance = distance;
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkHovrVolumeRepresentation::SetIntegration(int integration)
+{
+  if (integration == this->Integration)
+  {
+    return;
+  }
+  auto projection = [](int value) { return value == ANALYTIC_MIP || value == ANALYTIC_MINIP; };
+  const bool changes = projection(integration) != projection(this->Integration);
+  this->Integration = integration;
+  this->Modified();
+  if (changes)
+  {
+    // The view asks its representations again whether it composites in order. Every process
+    // marks it (a client and its server alike), so that they update together.
+    this->MarkModified();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkHovrVolumeRepresentation::DistributedProjection()
+{
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  return controller && controller->GetNumberOfProcesses() > 1 &&
+    (this->Integration == ANALYTIC_MIP || this->Integration == ANALYTIC_MINIP);
+}
+
+//------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
+  vtkInformation* inInfo,
+  vtkInformation* outInfo)
+{
+  if (request_type == vtkPVView::REQUEST_RENDER())
+  {
+    // Before the superclass sets the mapper up: whether this frame composites in order (the
+    // view decided at its last update).
+    auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+    this->OrderedCompositingInView = view && view->GetUseOrderedCompositing();
+  }
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request_type == vtkPVView::REQUEST_UPDATE() && this->DistributedProjection())
+  {
+    outInfo->Set(vtkPVRenderView::NEED_ORDERED_COMPOSITING(), 0);
+  }
+  return 1;
 }
 
 //------------------------------------------------------------------------------

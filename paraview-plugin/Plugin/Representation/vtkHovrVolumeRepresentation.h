@@ -73,7 +73,7 @@ public:
    * passed on unchanged (the mapper validates it), or one of AnalyticModes, which draw with
    * vtkAnalyticVolumeMapper. Initial value is the pre-integration mapper's, FIRST_ORDER.
    */
-  vtkSetMacro(Integration, int);
+  virtual void SetIntegration(int integration);
   vtkGetMacro(Integration, int);
   ///@}
 
@@ -300,6 +300,16 @@ protected:
 
   void UpdateMapperParameters() override;
 
+  // The superclass's; for Analytic MIP and MinIP on several ranks, no ordered compositing (the
+  // mapper writes each pixel's depth from its extremum, so that IceT's z-buffer compositing
+  // keeps the pixel of the rank that holds the extremum).
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  // Whether this process is one of several ranks and the method a projection.
+  bool DistributedProjection();
+
   // Half the smallest grid spacing of the mapper's input, or 0 when there is no grid.
   double ComputeAutomaticSampleDistance();
 
@@ -338,6 +348,7 @@ protected:
   double OracleEpsilon;
   double EffectiveSampleDistance = 0.0;
   bool WarnedDistributedProjection = false;
+  bool OrderedCompositingInView = false; // the view composites in order (another needs it)
   bool RefineInBackground = false;
   double WholeScalarRange[2] = { 1.0, 0.0 };
   double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };

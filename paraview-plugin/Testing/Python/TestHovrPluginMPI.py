@@ -4,8 +4,9 @@ then under MPI), or the same as the client of a pvserver on several ranks (RunCl
 
 Renders a semi-transparent Marschner-Lobb volume with the "hovr Volume" representation in each
 of Stock, First-order, Second-order, Analytic isosurface and Object-order (CPU) integration,
-and writes one image per method; Analytic MIP warns on more than one rank (once), and not on
-one. Then a second scene whose pieces cover different parts of the scalar range (see
+and writes one image per method, then Analytic MIP and MinIP, which must draw without a
+warning on any number of ranks (each pixel comes from the rank that holds its extremum, by
+depth). Then a second scene whose pieces cover different parts of the scalar range (see
 ramp_scene) in every method but the projections. With --compare-dir (the runs on several
 ranks), it also checks that
   - pvbatch (or pvserver) runs on --ranks processes and the Marschner-Lobb source is split
@@ -24,8 +25,9 @@ import argparse
 import os
 
 from paraview import servermanager
+import numpy
 from paraview.simple import (ColorBy, Connect, Disconnect, GetColorTransferFunction,
-                             GetOpacityTransferFunction, LoadPlugin, Render, Show)
+                             GetOpacityTransferFunction, Hide, LoadPlugin, Render, Show)
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 
 # The checker and image helpers of the plugin's main test (this script's directory).
@@ -46,6 +48,7 @@ RAMP_METHODS = METHODS + ("Adaptive sampling along rays",)
 # With each piece's own range the adaptive ray differs by about 2, with slices anchored to
 # each piece's own box by about 1.1 (at 3 and 4 ranks).
 RAMP_TOLERANCE = 1.0
+PROJECTIONS = ("Analytic MIP", "Analytic MinIP")
 
 
 def parse_arguments():
@@ -121,9 +124,11 @@ def main():
         images[method] = path
         check(read_rgb(path)[0].max() > 100, "%s draws the volume" % method)
 
-    # A maximum cannot be composited front to back: on several ranks Analytic MIP warns,
-    # once. pvbatch holds rank 0's representation in this process: the composite
-    # representation's active one is hovr's.
+    # The projections: on several ranks the mapper writes each pixel's depth from its extremum
+    # and the representation asks for no ordered compositing, so that IceT's z-buffer
+    # compositing keeps the pixel of the rank that holds the extremum; no warning (it warns
+    # only when another representation makes the view composite in order). pvbatch holds rank
+    # 0's representation in this process: the composite representation's active one is hovr's.
     representation = display.GetClientSideObject().GetActiveRepresentation()
     warnings = []
 
@@ -132,14 +137,30 @@ def main():
 
     on_warning.CallDataType = "string0"
     representation.AddObserver("WarningEvent", on_warning)
-    display.HovrIntegration = "Analytic MIP"
-    Render(view)
-    Render(view)
-    projection = [w for w in warnings if "Analytic MIP on %d ranks" % ranks in w]
+    ramp_opacity = list(opacity.Points)
+    opacity.Points = [0.0, 0.3, 0.5, 0.0, 1.0, 0.8, 0.5, 0.0]  # every extremum shows
+    for method in PROJECTIONS:
+        display.HovrIntegration = method
+        path = capture(view, os.path.join(args.output_dir, file_name(method)), IMAGE_SIZE)
+        images[method] = path
+        check(read_rgb(path)[0].max() > 100, "%s draws the volume" % method)
     if not args.server:  # a pvserver's ranks warn in their own log
-        check(len(projection) == (1 if ranks > 1 else 0) and len(warnings) == len(projection),
-              "Analytic MIP on %d rank(s): %d warning(s) about compositing the pieces, %d in all"
-              % (ranks, len(projection), len(warnings)))
+        check(not warnings, "the projections on %d rank(s) draw without a warning (%s)"
+              % (ranks, warnings))
+        # Beside a representation that needs ordered compositing (ParaView's own volume), the
+        # pieces are composited front to back: on several ranks Analytic MIP says so, once.
+        other = globals()["MarschnerLobb"](Dimensions=[9, 9, 9])
+        other_display = Show(other, view)
+        other_display.SetRepresentationType("Volume")
+        display.HovrIntegration = "Analytic MIP"
+        Render(view)
+        Render(view)
+        beside = [w for w in warnings if "needs ordered compositing" in w]
+        check(len(beside) == (1 if ranks > 1 else 0) and len(warnings) == len(beside),
+              "Analytic MIP beside ParaView's volume on %d rank(s): %d warning(s) about "
+              "compositing in order, %d in all" % (ranks, len(beside), len(warnings)))
+        Hide(other, view)
+    opacity.Points = ramp_opacity
 
     if args.compare_dir:
         for method in METHODS:
@@ -147,6 +168,13 @@ def main():
                                           os.path.join(args.compare_dir, file_name(method)))
             check(difference < TOLERANCE, "%s on %d ranks matches one rank (RMS %.2f < %.2f)"
                   % (method, ranks, difference, TOLERANCE))
+        for method in PROJECTIONS:
+            reference = os.path.join(args.compare_dir, file_name(method))
+            difference = image_difference(images[method], reference)
+            largest = numpy.abs(read_rgb(images[method])[0] - read_rgb(reference)[0]).max()
+            check(difference < RAMP_TOLERANCE and largest <= 3, "%s on %d ranks matches one "
+                  "rank (RMS %.2f < %.2f, largest difference %d <= 3)"
+                  % (method, ranks, difference, RAMP_TOLERANCE, largest))
         # What a wrongly composited piece would do, on a smaller scale: the whole volume's
         # opacity raised by a quarter (a piece drawn twice doubles it).
         display.HovrIntegration = METHODS[-1]
@@ -169,7 +197,7 @@ def ramp_scene(args, ranks, view, source, check):
     would draw its piece differently from one rank drawing the whole. The representation must
     give every rank the whole range and bounds, and every hovr method must then match the
     one-rank image within RAMP_TOLERANCE (Stock, VTK's own mapper, is reported only)."""
-    from paraview.simple import Calculator, Hide
+    from paraview.simple import Calculator
     Hide(source, view)
     field = globals()["MarschnerLobb"](Dimensions=RAMP_DIMENSIONS)
     ramp = Calculator(Input=field, ResultArrayName="Ramp",
