@@ -405,8 +405,33 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   // The CPU core's slice grid, so that both sample the same points.
   double eye[3], forward[3], nearest, axisLength[3];
   internal.Rays->GetRay(0.0, 0.0, eye, forward);
-  const vtkIdType iMax = vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(
+  vtkIdType iMax = vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(
     toWorld, dims, eye, forward, delta, lmax, nearest, axisLength);
+  // Slice 0 through the whole volume's nearest corner when the input is a piece of it
+  // (WholeBounds), so that every piece samples the whole volume's slices.
+  double own[6], whole[6];
+  input->GetBounds(own);
+  std::copy(own, own + 6, whole);
+  this->CoverWholeBounds(whole);
+  double wholeNearest = nearest;
+  for (int c = 0; c < 8 && !std::equal(own, own + 6, whole); ++c)
+  {
+    const double corner[4] = {
+      whole[(c & 1) ? 1 : 0], whole[(c & 2) ? 3 : 2], whole[(c & 4) ? 5 : 4], 1.0
+    };
+    double w[4];
+    vol->GetMatrix()->MultiplyPoint(corner, w);
+    wholeNearest = std::min(wholeNearest, vtkMath::Dot(w, forward) - vtkMath::Dot(eye, forward));
+  }
+  if (wholeNearest < nearest)
+  {
+    // The slices before the piece are counted (so that its first slice has its index in the
+    // whole volume), and the last slice is again a multiple of 2^l_max.
+    const vtkIdType front = static_cast<vtkIdType>(std::ceil((nearest - wholeNearest) / delta));
+    const vtkIdType block = vtkIdType(1) << lmax;
+    nearest = wholeNearest;
+    iMax = (iMax + front + block - 1) / block * block;
+  }
   // Image coordinates (x, y) -> index-space point on slice 0: affine (parallel projection).
   double base[3], axisX[3], axisY[3], step[3];
   {

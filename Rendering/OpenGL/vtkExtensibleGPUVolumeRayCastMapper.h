@@ -143,8 +143,8 @@ public:
    * grid is anchored to besides its input's: the whole volume's, when the input is one piece of
    * it (a rank's under MPI, as the ParaView plugin sets them), so that every piece samples on the
    * grid of the whole. Empty bounds (a minimum above its maximum) anchor to the input's own.
-   * The methods whose grid is anchored to the volume (the adaptive ray's slices) read them; the
-   * others sample on a grid anchored to the camera. Initial value is (1, 0, 1, 0, 1, 0).
+   * The methods whose grid is anchored to the volume (the adaptive methods' slices) read them;
+   * the others sample on a grid anchored to the camera. Initial value is (1, 0, 1, 0, 1, 0).
    */
   vtkSetVector6Macro(WholeBounds, double);
   vtkGetVector6Macro(WholeBounds, double);

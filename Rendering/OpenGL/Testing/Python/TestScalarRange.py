@@ -13,7 +13,8 @@ the adaptive ray, object-order ray casting and the analytic isosurface:
 - unset again, the adaptive ray, object order and the isosurface draw their first image again,
   bit for bit; pre-integration treats a narrower range like a time step's (its measured sizes
   and their range stay while that range holds the data), so its table still holds the data.
-WholeBounds on the adaptive ray: its own bounds draw the same image, bit for bit; a box larger
+WholeBounds on the adaptive ray and the adaptive 3D method: its own bounds draw the same
+image, bit for bit; a box larger
 by a third of a slice on every side moves its slices (the image changes, slightly); empty
 bounds draw the first image again. The MPI test of the plugin checks the images of pieces
 against one rank's whole volume.
@@ -161,25 +162,36 @@ for name, holder, kind in methods():
         c.check(numpy.array_equal(again, first), "%s: unset again, the first image again (max "
                 "%.2e)" % (label, numpy.abs(again - first).max()))
 
-# WholeBounds: the adaptive ray's slices are anchored to the whole volume's box.
-mapper = adaptive()
-data = volumes["float"]
-first, _ = draw(mapper, data)
-bounds = data.GetBounds()
-mapper.SetWholeBounds(bounds)
-own, _ = draw(mapper, data)
-c.check(numpy.array_equal(own, first), "adaptive ray: its own bounds as WholeBounds draw the "
-        "same image (max %.2e)" % numpy.abs(own - first).max())
-# A whole box that reaches a third of a slice closer to the camera on every side moves the
-# slices: the same volume, sampled elsewhere.
-spacing = mapper.GetSampleDistance() / 3.0
-mapper.SetWholeBounds([b + (spacing if k % 2 else -spacing) for k, b in enumerate(bounds)])
-moved, messages = draw(mapper, data)
-c.check(0.0 < rms(moved, first) < 0.01 and not messages.errors,
-        "adaptive ray: a larger whole box moves the slices (RMS %.2e)" % rms(moved, first))
-mapper.SetWholeBounds(1.0, 0.0, 1.0, 0.0, 1.0, 0.0)
-again, _ = draw(mapper, data)
-c.check(numpy.array_equal(again, first), "adaptive ray: empty WholeBounds, the first image "
-        "again (max %.2e)" % numpy.abs(again - first).max())
+# WholeBounds: the adaptive methods' slices are anchored to the whole volume's box.
+def pyramid():
+    mapper = hovr.vtkAdaptiveSamplingVolumeMapper()
+    mapper.SetSampleDistance(0.5)
+    mapper.SetOracleModeToMinimum()
+    return mapper
+
+
+for name, make, parallel in (("adaptive ray", adaptive, False), ("adaptive 3D", pyramid, True)):
+    mapper = make()
+    data = volumes["float"]
+    camera.SetParallelProjection(parallel)
+    first, messages = draw(mapper, data)
+    c.check(first[..., 3].max() > 0.1 and not messages.errors,
+            "%s draws the volume (%s)" % (name, messages.errors))
+    bounds = data.GetBounds()
+    mapper.SetWholeBounds(bounds)
+    own, _ = draw(mapper, data)
+    c.check(numpy.array_equal(own, first), "%s: its own bounds as WholeBounds draw the same "
+            "image (max %.2e)" % (name, numpy.abs(own - first).max()))
+    # A whole box that reaches a third of a slice further on every side moves the slices: the
+    # same volume, sampled elsewhere.
+    spacing = mapper.GetSampleDistance() / 3.0
+    mapper.SetWholeBounds([b + (spacing if k % 2 else -spacing) for k, b in enumerate(bounds)])
+    moved, messages = draw(mapper, data)
+    c.check(0.0 < rms(moved, first) < 0.01 and not messages.errors,
+            "%s: a larger whole box moves the slices (RMS %.2e)" % (name, rms(moved, first)))
+    mapper.SetWholeBounds(1.0, 0.0, 1.0, 0.0, 1.0, 0.0)
+    again, _ = draw(mapper, data)
+    c.check(numpy.array_equal(again, first), "%s: empty WholeBounds, the first image again "
+            "(max %.2e)" % (name, numpy.abs(again - first).max()))
 
 c.finish()
