@@ -123,6 +123,49 @@ class Messages:
     on_warning.CallDataType = "string0"
 
 
+class FloatFrames:
+    """An offscreen window of `size` pixels with a transparent black background, whose frames
+    are read back as float RGBA (vtkFloatRGBARenderCapture): one volume at a time."""
+
+    def __init__(self, size):
+        import hovr
+        from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetMultiSamples(0)
+        self.window.SetAlphaBitPlanes(1)
+        self.view = vtkRenderer()
+        self.view.SetBackground(0.0, 0.0, 0.0)
+        self.view.SetBackgroundAlpha(0.0)
+        self.window.AddRenderer(self.view)
+        # A first frame at 1 x 1 makes the context before the capture attaches to it.
+        self.window.SetSize(1, 1)
+        self.window.Render()
+        self.window.SetSize(*size)
+        self.capture = hovr.vtkFloatRGBARenderCapture()
+        self.capture.Attach(self.window)
+
+    def draw(self, mapper, data, prop, camera):
+        """The float (H, W, 4) image of one frame of `mapper` drawing `data` with `prop` seen by
+        `camera`, and the mapper's messages (a Messages)."""
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        from vtkmodules.vtkRenderingCore import vtkVolume
+        mapper.SetInputData(data)
+        messages = Messages(mapper)
+        actor = vtkVolume()
+        actor.SetMapper(mapper)
+        actor.SetProperty(prop)
+        self.view.RemoveAllViewProps()
+        self.view.AddVolume(actor)
+        self.view.GetActiveCamera().DeepCopy(camera)
+        self.view.ResetCameraClippingRange()
+        self.window.Render()
+        image = vtkImageData()
+        self.capture.Capture(image)
+        return rgba(image).astype("float64"), messages
+
+
 def blobs(n=48, seed=3, count=6):
     """A smooth volume of Gaussian blobs, values 0 to 255 rounded to integers, indexed [z, y, x]:
     regions where the scalar lingers near each blob's maximum, where a table that blurs the

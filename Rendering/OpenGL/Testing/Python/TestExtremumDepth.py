@@ -17,29 +17,14 @@ import numpy
 from vtkmodules.vtkCommonCore import vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkImagingCore import vtkExtractVOI
-from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, Messages, blobs, image_from_array, rgba, spike_property
+from hovrtesting import Checker, FloatFrames, blobs, image_from_array, spike_property
 
 c = Checker()
 SIZE = 64
-
-window = vtkRenderWindow()
-window.SetOffScreenRendering(1)
-window.SetMultiSamples(0)
-window.SetAlphaBitPlanes(1)
-view = vtkRenderer()
-view.SetBackground(0.0, 0.0, 0.0)
-view.SetBackgroundAlpha(0.0)
-window.AddRenderer(view)
-window.SetSize(1, 1)
-window.Render()
-window.SetSize(SIZE, SIZE)
-capture = hovr.vtkFloatRGBARenderCapture()
-capture.Attach(window)
+frames = FloatFrames((SIZE, SIZE))
 
 whole = image_from_array(blobs(n=33).astype(numpy.float32))
 low, high = whole.GetPointData().GetScalars().GetRange()
@@ -58,23 +43,11 @@ def draw(data, blend, depth):
     mapper.SetBlendMode(blend)
     mapper.SetScalarRange(low, high)
     mapper.SetExtremumDepth(depth)
-    mapper.SetInputData(data)
-    messages = Messages(mapper)
-    actor = vtkVolume()
-    actor.SetMapper(mapper)
-    actor.SetProperty(prop)
-    view.RemoveAllViewProps()
-    view.AddVolume(actor)
-    view.GetActiveCamera().DeepCopy(camera)
-    view.ResetCameraClippingRange()
-    window.Render()
-    image = vtkImageData()
-    capture.Capture(image)
+    colour, messages = frames.draw(mapper, data, prop, camera)
     z = vtkFloatArray()
-    window.GetZbufferData(0, 0, SIZE - 1, SIZE - 1, z)
+    frames.window.GetZbufferData(0, 0, SIZE - 1, SIZE - 1, z)
     depth_image = numpy.array([z.GetValue(i) for i in range(z.GetNumberOfTuples())])
-    return (rgba(image).astype(numpy.float64), depth_image.reshape(SIZE, SIZE),
-            messages.errors + messages.warnings)
+    return colour, depth_image.reshape(SIZE, SIZE), messages.errors + messages.warnings
 
 
 def pieces(axis, count):
@@ -107,7 +80,8 @@ for blend, name in ((hovr.vtkAnalyticVolumeMapper.MAXIMUM_INTENSITY_BLEND, "MIP"
     c.check(numpy.all(plain_depth == 1.0) and numpy.abs(plain - reference).max() < 1e-6,
             "%s: without ExtremumDepth the same colour, and no depth written" % name)
     for axis, count in ((0, 2), (1, 3)):
-        drawn = [draw(piece, blend, True) for piece in pieces(axis, count)]
+        parts = pieces(axis, count)
+        drawn = [draw(piece, blend, True) for piece in parts]
         colours = numpy.stack([d[0] for d in drawn])
         depths = numpy.stack([d[1] for d in drawn])
         nearest = numpy.argmin(depths, axis=0)
@@ -117,8 +91,8 @@ for blend, name in ((hovr.vtkAnalyticVolumeMapper.MAXIMUM_INTENSITY_BLEND, "MIP"
                 "the whole projection (max %.2e)" % (name, count, "xyz"[axis], difference))
         # Front to back along the view (the pieces' order by their distance to the camera).
         eye = numpy.array(camera.GetPosition())
-        order = sorted(range(count), key=lambda k: numpy.linalg.norm(
-            numpy.array(drawn and pieces(axis, count)[k].GetCenter()) - eye))
+        order = sorted(range(count),
+                       key=lambda k: numpy.linalg.norm(numpy.array(parts[k].GetCenter()) - eye))
         over = numpy.zeros_like(reference)
         for k in order:
             over = over + (1.0 - over[..., 3:4]) * colours[k]

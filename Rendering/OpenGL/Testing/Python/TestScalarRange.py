@@ -23,29 +23,13 @@ against one rank's whole volume.
 import math
 
 import numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, Messages, blobs, image_from_array, rgba, spike_property
+from hovrtesting import Checker, FloatFrames, blobs, image_from_array, spike_property
 
 c = Checker()
-
-window = vtkRenderWindow()
-window.SetOffScreenRendering(1)
-window.SetMultiSamples(0)
-window.SetAlphaBitPlanes(1)
-view = vtkRenderer()
-view.SetBackground(0.0, 0.0, 0.0)
-view.SetBackgroundAlpha(0.0)
-window.AddRenderer(view)
-window.SetSize(1, 1)
-window.Render()
-window.SetSize(64, 64)
-capture = hovr.vtkFloatRGBARenderCapture()
-capture.Attach(window)
+frames = FloatFrames((64, 64))
 
 prop = spike_property()
 prop.GetIsoSurfaceValues().SetValue(0, 104.0)
@@ -57,19 +41,7 @@ camera = hio.default_camera(volumes["float"].GetBounds())
 
 def draw(mapper, data):
     """The float image of one frame of ``mapper`` on ``data``, and its messages."""
-    mapper.SetInputData(data)
-    messages = Messages(mapper)
-    actor = vtkVolume()
-    actor.SetMapper(mapper)
-    actor.SetProperty(prop)
-    view.RemoveAllViewProps()
-    view.AddVolume(actor)
-    view.GetActiveCamera().DeepCopy(camera)
-    view.ResetCameraClippingRange()
-    window.Render()
-    image = vtkImageData()
-    capture.Capture(image)
-    return rgba(image).astype(numpy.float64), messages
+    return frames.draw(mapper, data, prop, camera)
 
 
 def preintegration(order):
