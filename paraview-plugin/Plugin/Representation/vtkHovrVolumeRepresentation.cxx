@@ -35,6 +35,16 @@
 
 vtkStandardNewMacro(vtkHovrVolumeRepresentation);
 
+namespace
+{
+// Whether an Integration value is a projection (MIP or MinIP), which composites by extremum.
+bool IsProjection(int integration)
+{
+  return integration == vtkHovrVolumeRepresentation::ANALYTIC_MIP ||
+    integration == vtkHovrVolumeRepresentation::ANALYTIC_MINIP;
+}
+}
+
 //------------------------------------------------------------------------------
 vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
 {
@@ -358,8 +368,7 @@ void vtkHovrVolumeRepresentation::SetIntegration(int integration)
   {
     return;
   }
-  auto projection = [](int value) { return value == ANALYTIC_MIP || value == ANALYTIC_MINIP; };
-  const bool changes = projection(integration) != projection(this->Integration);
+  const bool changes = IsProjection(integration) != IsProjection(this->Integration);
   this->Integration = integration;
   this->Modified();
   if (changes)
@@ -374,8 +383,7 @@ void vtkHovrVolumeRepresentation::SetIntegration(int integration)
 bool vtkHovrVolumeRepresentation::DistributedProjection()
 {
   auto* controller = vtkMultiProcessController::GetGlobalController();
-  return controller && controller->GetNumberOfProcesses() > 1 &&
-    (this->Integration == ANALYTIC_MIP || this->Integration == ANALYTIC_MINIP);
+  return controller && controller->GetNumberOfProcesses() > 1 && IsProjection(this->Integration);
 }
 
 //------------------------------------------------------------------------------

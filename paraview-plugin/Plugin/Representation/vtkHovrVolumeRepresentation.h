@@ -27,10 +27,15 @@
  * perspective camera it draws with VTK's vtkFixedPointVolumeRayCastMapper after a warning.
  *
  * Under MPI (pvbatch or pvserver on several ranks) every rank draws its piece of the volume
- * and ParaView joins the images front to back ("over"): right for composite rendering and
- * isosurfaces, but not a maximum or minimum over the pieces, so ANALYTIC_MIP and
- * ANALYTIC_MINIP on more than one rank give a warning (once, from rank 0, until the choice
- * or the rank count changes).
+ * and ParaView joins the images front to back ("over"). Every rank's mapper spans the whole
+ * volume's scalar range and anchors its sampling to the whole volume's bounds (reduced over
+ * the ranks when the data update: GetWholeScalarRange, GetWholeBounds), so that each piece is
+ * drawn as the whole volume draws it. A maximum or minimum over the pieces is not joined
+ * front to back: for ANALYTIC_MIP and ANALYTIC_MINIP the representation asks for no ordered
+ * compositing and the mapper writes each pixel's depth from its extremum
+ * (vtkAnalyticVolumeMapper::ExtremumDepth), so that ParaView's z-buffer compositing keeps the
+ * rank that holds it. Beside a representation that needs ordered compositing they give a
+ * warning (once, from rank 0, until that changes).
  *
  * The hovr settings below are kept here and passed to the mapper before every render
  * (UpdateMapperParameters), so changing one does not re-execute the representation.
