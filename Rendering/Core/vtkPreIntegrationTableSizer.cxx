@@ -26,9 +26,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <new>
-#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkPreIntegrationTableSizer);
@@ -120,12 +117,9 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double Threshold = 1.0;
   vtkSecondOrderPreIntegrationTable* Table = nullptr; // the prepared one
   vtkPreIntegrationCandidateEntries Entries;          // of a candidate measured alone
-  // The entries of the centre size being measured, shared by its candidates: without and
-  // with the prefilter.
-  std::unique_ptr<vtkPreIntegrationCandidateEntries> LevelEntries[2];
-  std::vector<double> LastPerRay;   // of the last Measure()
-  std::vector<double> RayKey;       // what the rays were computed from
-  std::vector<double> ReferenceKey; // what their reference was computed from
+  std::vector<double> LastPerRay;                     // of the last Measure()
+  std::vector<double> RayKey;                         // what the rays were computed from
+  std::vector<double> ReferenceKey;                   // what their reference was computed from
   // The pieces of every ray (ray r's from PieceStart[r] to PieceStart[r + 1]): they depend on
   // the volume, the rays, the order and the step, not on the transfer functions, and are kept
   // while those stay the same.
@@ -934,9 +928,11 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
       }
     }
+    // The entries this centre size's candidates share: without and with the prefilter.
+    std::unique_ptr<vtkPreIntegrationCandidateEntries> shared[2];
     for (int p = 0; p < 2; ++p)
     {
-      I.LevelEntries[p] = fitting[p].empty() ? nullptr : share(fitting[p], p == 1);
+      shared[p] = fitting[p].empty() ? nullptr : share(fitting[p], p == 1);
     }
     // Finest first, as the loops made them: the coarser candidates then find most of their
     // entries integrated.
@@ -946,13 +942,9 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
       {
         if (i < fitting[p].size())
         {
-          evaluate(fitting[p][i], I.LevelEntries[p].get());
+          evaluate(fitting[p][i], shared[p].get());
         }
       }
-    }
-    for (auto& entries : I.LevelEntries)
-    {
-      entries.reset();
     }
     ++this->NumberOfLevels;
     // The levels ahead are not known: each measured one goes half the rest of the way.
