@@ -14,6 +14,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkObjectOrderRayCasterFrame.h"
 #include "vtkObjectOrderRayCasterTiles.h"
+#include "vtkPreIntegrationTable.h"
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
@@ -174,13 +175,9 @@ bool vtkObjectOrderRayCaster::vtkInternals::CheckInput(vtkImageData* input,
       "to the same shape); the camera has a perspective one.");
     return false;
   }
-  scalars->GetFiniteRange(range, 0); // not empty: checked by PrepareFrame
-  const double* cover = self->ScalarRange;
-  if (cover[0] <= cover[1] && std::isfinite(cover[0]) && std::isfinite(cover[1]))
-  {
-    range[0] = std::min(range[0], cover[0]);
-    range[1] = std::max(range[1], cover[1]);
-  }
+  // The finite range (not empty: checked by PrepareFrame), widened to ScalarRange.
+  double widened[2];
+  vtkPreIntegrationTable::ComputeScalarRange(scalars, range, widened, self->ScalarRange);
   if (std::max(std::abs(range[0]), std::abs(range[1])) > VTK_FLOAT_MAX)
   {
     vtkErrorWithObjectMacro(self,
