@@ -12,9 +12,10 @@ here:
 - two edits of each: a drag step (one opacity node's height times 0.7 to 1.3, or its position
   moved by up to 1% of the range) and a new spike (1% to 5% of the range wide);
 - both orders, at a step of 1 voxel.
-The sizer measures the sizes before and after each edit; an independent judge (another seed,
-4096 rays) measures both tables on the edited transfer function, and the script prints the
-provisional table's error over the measured one's.
+The sizer measures the sizes before and after each edit (the second time for a table that
+holds the first sizes, as the mapper's does); an independent judge (another seed, 4096 rays)
+measures both tables on the edited transfer function, and the script prints the provisional
+table's error over the measured one's.
 
     ./hovr python Examples/Python/provisional_tables.py [--cases N]
 """
@@ -89,13 +90,18 @@ def edit(rng, prop, kind, low, high):
         opacity.AddPoint(c + w, 0.0)
 
 
-def measure(image, prop, order):
-    """The sizer's sizes for the property (sizes, chord and deviation ranges, prefilter)."""
+def measure(image, prop, order, previous=None):
+    """The sizer's sizes for the property (sizes, chord and deviation ranges, prefilter), for a
+    table that holds `previous` (as the mapper's table holds its last measured sizes)."""
     scalars = image.GetPointData().GetScalars()
     table = hovr.vtkSecondOrderPreIntegrationTable()
     table.SetVolumeProperty(prop)
     table.SetScalarRange(*scalars.GetRange())
     table.SetSegmentLength(order * 1.0)
+    if previous:
+        for setter, value in zip(("TableSize", "ChordSize", "DeviationSize", "ChordRange",
+                                  "DeviationRange", "Prefilter"), previous):
+            getattr(table, "Set" + setter)(value)
     sizer = hovr.vtkPreIntegrationTableSizer()
     sizer.SetMeasurePrefilter(order == 1)
     sizer.Choose(image, scalars, table, order, 1.0)
@@ -128,7 +134,7 @@ for case in range(args.cases):
         last = measure(image, prop, order)
         for change in ("drag", "spike"):
             edit(rng, prop, change, low, high)
-            measured = measure(image, prop, order)
+            measured = measure(image, prop, order, last)
             ratio = judge(image, prop, order, last) / judge(image, prop, order, measured)
             rows.append((order, change, last[:3] == measured[:3], ratio))
             print("case %2d %-14s order %d %-5s provisional %-16s measured %-16s error ratio %.4f"

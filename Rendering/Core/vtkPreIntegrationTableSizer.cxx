@@ -991,19 +991,23 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     return this->Stop();
   }
 
-  // The least memory among the candidates good on all the rays and on `halves` of their
-  // halves (so that a table good only by the luck of a few rays, whose errors dominate the
-  // mean, is less likely chosen: the per-ray errors are heavy-tailed, rays grazing a sharp
-  // feature carry most of the error); of equal memory (with and without the prefilter), the smaller
-  // error.
+  // Good on all the rays and on `halves` of their halves (so that a table good only by the
+  // luck of a few rays, whose errors dominate the mean, is less likely chosen: the per-ray
+  // errors are heavy-tailed, rays grazing a sharp feature carry most of the error).
+  auto goodAt = [&](int i, int halves)
+  {
+    return I.Candidates[i].Error >= 0.0 && goodOn(i, 0, 1) &&
+      static_cast<int>(goodOn(i, 0, 2)) + static_cast<int>(goodOn(i, 1, 2)) >= halves;
+  };
+  // The least memory among the candidates good at `halves`; of equal memory (with and without
+  // the prefilter), the smaller error.
   auto leastMemory = [&](int halves)
   {
     int chosen = -1;
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
     {
       const Candidate& c = I.Candidates[i];
-      if (c.Error < 0.0 || !goodOn(i, 0, 1) ||
-        static_cast<int>(goodOn(i, 0, 2)) + static_cast<int>(goodOn(i, 1, 2)) < halves)
+      if (!goodAt(i, halves))
       {
         continue;
       }
@@ -1016,12 +1020,30 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     }
     return chosen;
   };
+  int halves = 2;
   this->ChosenCandidate = leastMemory(2);
   if (this->ChosenCandidate < 0)
   {
     // The halves' bests differ by more than their rays can resolve (heavy tails), so that no
     // candidate, often not even the best, is good on both: good on all the rays and one half.
+    halves = 1;
     this->ChosenCandidate = leastMemory(1);
+  }
+  // The sizes in use stay while they are as good and cost at most twice the least memory:
+  // near-equal candidates otherwise trade places from edit to edit (the rays cannot tell
+  // them apart), and each trade rebuilds the table and outdates a drag's provisional one.
+  for (int i = 0; i < static_cast<int>(I.Candidates.size()) && this->ChosenCandidate >= 0; ++i)
+  {
+    const Candidate& c = I.Candidates[i];
+    if (i != this->ChosenCandidate && c.Sizes[0] == table->GetTableSize() &&
+      c.Sizes[1] == table->GetChordSize() && c.Sizes[2] == table->GetDeviationSize() &&
+      c.Ranges[0] == table->GetChordRange() && c.Ranges[1] == table->GetDeviationRange() &&
+      c.Prefilter == table->GetPrefilter() && goodAt(i, halves) &&
+      c.Memory <= 2.0 * I.Candidates[this->ChosenCandidate].Memory)
+    {
+      this->ChosenCandidate = i;
+      break;
+    }
   }
   if (this->ChosenCandidate < 0)
   {
