@@ -186,31 +186,37 @@ void vtkPreIntegrationCandidateEntries::Lookup::Read(const double v[3],
   double rgba[4]) const
 {
   // The interpolation cell in the candidate's axes (TableView::Corners), its corners in the
-  // store's.
-  int cell[3];
-  double w[3];
+  // store's: per axis the store offsets and weights of the cell's two sides, combined as the
+  // corners c = 0..7 (bit a of c: side along axis a), the weights multiplied in axis order.
+  const int* size = this->Store->Size;
+  vtkIdType sides[3][2];
+  double weights[3][2];
+  vtkIdType stride = 1;
   for (int a = 0; a < 3; ++a)
   {
     const double x = this->View.Index(a, v[a]);
-    cell[a] = std::min(static_cast<int>(x), std::max(this->View.Size[a] - 2, 0));
-    w[a] = x - cell[a];
+    const int cell = std::min(static_cast<int>(x), std::max(this->View.Size[a] - 2, 0));
+    const double w = x - cell;
+    const int next = cell + (this->View.Size[a] > 1 ? 1 : 0);
+    sides[a][0] = (this->Offset[a] + this->Scale[a] * cell) * stride;
+    sides[a][1] = (this->Offset[a] + this->Scale[a] * next) * stride;
+    weights[a][0] = 1.0 - w;
+    weights[a][1] = w;
+    stride *= size[a];
   }
-  const int* size = this->Store->Size;
+  const float* values = this->Store->Values.get();
+  const std::atomic<unsigned char>* states = this->Store->States.get();
   std::fill(rgba, rgba + 4, 0.0);
   for (int c = 0; c < 8; ++c)
   {
-    double product = 1.0;
-    vtkIdType offset = 0, stride = 1;
-    for (int a = 0; a < 3; ++a)
+    const int b0 = c & 1, b1 = (c >> 1) & 1, b2 = (c >> 2) & 1;
+    const double product = weights[0][b0] * weights[1][b1] * weights[2][b2];
+    const vtkIdType offset = sides[0][b0] + sides[1][b1] + sides[2][b2];
+    if (states[offset].load(std::memory_order_acquire) != 2)
     {
-      const int bit = (c >> a) & 1;
-      product *= bit ? w[a] : 1.0 - w[a];
-      const int i = cell[a] + (this->View.Size[a] > 1 ? bit : 0);
-      offset += (this->Offset[a] + this->Scale[a] * i) * stride;
-      stride *= size[a];
+      this->Store->Ensure(offset, this->Steps);
     }
-    this->Store->Ensure(offset, this->Steps);
-    const float* e = this->Store->Values.get() + 4 * offset;
+    const float* e = values + 4 * offset;
     for (int k = 0; k < 4; ++k)
     {
       rgba[k] += product * e[k];
