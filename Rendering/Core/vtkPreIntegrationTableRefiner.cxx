@@ -424,6 +424,14 @@ bool vtkPreIntegrationTableRefiner::IsProvisional(vtkIdType request)
 }
 
 //------------------------------------------------------------------------------
+bool vtkPreIntegrationTableRefiner::IsConfirmation(vtkIdType request)
+{
+  vtkInternals& I = *this->Internals;
+  std::lock_guard<std::mutex> lock(I.Mutex);
+  return request > 0 && I.ResultId == request && I.ResultSame;
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationTableRefiner::Failed(vtkIdType request)
 {
   vtkInternals& I = *this->Internals;

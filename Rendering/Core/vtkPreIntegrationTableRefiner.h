@@ -115,6 +115,12 @@ public:
   bool IsProvisional(vtkIdType request);
 
   /**
+   * Whether the final result of request `request` is the provisional table already taken:
+   * TakeResult() then only ends the request, and a frame would draw the same image.
+   */
+  bool IsConfirmation(vtkIdType request);
+
+  /**
    * Give the result of request `request` to table: its sizes, ranges and prefilter, and its
    * entries when they were built and table takes them (AdoptBuild; otherwise table's next
    * Update() builds them). The table must have the settings the request was made with. False

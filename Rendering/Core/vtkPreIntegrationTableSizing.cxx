@@ -42,6 +42,7 @@ void vtkPreIntegrationTableSizing::Reset()
   this->MeasuredSignature->Initialize();
   this->Interim = false;
   this->Request = 0;
+  this->RequestTable = nullptr;
   this->Refiner->Cancel();
 }
 
@@ -145,10 +146,7 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
         ++this->NumberOfProvisionalTables;
         return true;
       }
-      this->Refiner->GetLastSizer(this->Sizer);
-      this->Interim = false;
-      this->MeasuredSize = table->GetTableSize();
-      this->MarkMeasured(table);
+      this->FinishRefinement(table);
       return true;
     }
     if (this->Refiner->Failed(this->Request))
@@ -219,6 +217,7 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     this->Key.clear();
     return false;
   }
+  this->RequestTable = table;
   this->Interim = true;
   ++this->NumberOfInterimTables;
   this->SetInterimSizes(table, order, deviationLimit);
@@ -399,14 +398,35 @@ double vtkPreIntegrationTableSizing::ChordChange(vtkDoubleArray* a, vtkDoubleArr
 }
 
 //------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizing::FinishRefinement(vtkSecondOrderPreIntegrationTable* table)
+{
+  this->Refiner->GetLastSizer(this->Sizer);
+  this->Interim = false;
+  this->MeasuredSize = table->GetTableSize();
+  this->MarkMeasured(table);
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationTableSizing::FinishConfirmation()
+{
+  if (this->Interim && this->RequestTable && this->Refiner->IsConfirmation(this->Request) &&
+    this->Refiner->TakeResult(this->Request, this->RequestTable))
+  {
+    this->FinishRefinement(this->RequestTable);
+  }
+}
+
+//------------------------------------------------------------------------------
 bool vtkPreIntegrationTableSizing::IsRefining()
 {
+  this->FinishConfirmation();
   return this->Interim;
 }
 
 //------------------------------------------------------------------------------
 bool vtkPreIntegrationTableSizing::IsRefinementReady()
 {
+  this->FinishConfirmation();
   return this->Interim &&
     (this->Refiner->IsReady(this->Request) || this->Refiner->Failed(this->Request));
 }

@@ -20,8 +20,10 @@
  *     given as a provisional table before the measurement ends (a small edit most often
  *     measures the same sizes again). IsRefinementReady() tells when the provisional or the
  *     measured table waits, and the next Update() with the same key gives it to the table
- *     (sizes and entries); the measured one equal to the provisional one changes nothing. A
- *     failed measurement is reported once and the interim table stays.
+ *     (sizes and entries). A measurement that confirms the provisional table already drawn
+ *     ends the refinement by itself (IsRefining() and IsRefinementReady() turn false): a
+ *     frame would draw the same image. A failed measurement is reported once and the
+ *     interim table stays.
  * GetSizer() holds the sizer settings both ways use, and the statistics of the last measured
  * sizes in use (after a background measurement, copied from the worker's sizer).
  *
@@ -146,7 +148,9 @@ public:
   bool IsRefining();
 
   /**
-   * Whether the measured table waits for the next Update() (the frame that draws it).
+   * Whether the provisional or measured table waits for the next Update() (the frame that
+   * draws it). Both this and IsRefining() first end a refinement whose measurement confirmed
+   * the provisional table already drawn.
    */
   bool IsRefinementReady();
 
@@ -199,6 +203,11 @@ protected:
   void SetInterimSizes(vtkSecondOrderPreIntegrationTable* table, int order, int deviationLimit);
   // Records that table holds measured sizes.
   void MarkMeasured(vtkSecondOrderPreIntegrationTable* table);
+  // Takes the measured sizes into the sizer's statistics and the table's record: the
+  // refinement of the request's table ends.
+  void FinishRefinement(vtkSecondOrderPreIntegrationTable* table);
+  // Ends the refinement when its measurement confirmed the provisional table already drawn.
+  void FinishConfirmation();
 
   bool RefineInBackground = false;
   double InterimEntries = 131072.0;
@@ -226,6 +235,7 @@ protected:
   int KeptTableSize = 0;
   bool Interim = false;  // the sizes for Key are interim (a request runs or waits)
   vtkIdType Request = 0; // the background request for Key
+  vtkSecondOrderPreIntegrationTable* RequestTable = nullptr; // the table it refines
   // The tables whose sizes were measured once (the interim sizes keep them).
   std::vector<const void*> MeasuredTables;
   // Their last measured TableSize, ChordSize, ChordRange, DeviationSize, DeviationRange and

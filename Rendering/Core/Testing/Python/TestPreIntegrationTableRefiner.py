@@ -22,7 +22,8 @@ orders:
 - a provisional request (a table of measured sizes, edited): its provisional result is a
   table of those sizes built for the edit (entries equal to that table built here), given
   before the measurement ends, then the measured one; when the measurement finds the same
-  sizes, the final result changes nothing; without taking the provisional one, only the
+  sizes, the final result is a confirmation (IsConfirmation) that changes nothing; without
+  taking the provisional one, only the
   measured one waits; the result is the same table either way as a plain request's;
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
   check).
@@ -277,7 +278,8 @@ for order in (1, 2):
     # Not taken: only the measured result waits.
     request = refiner.Request(image, scalars, request_table, order, step, 4097, True, True)
     refiner.Wait()
-    c.check(refiner.IsReady(request) and not refiner.IsProvisional(request),
+    c.check(refiner.IsReady(request) and not refiner.IsProvisional(request) and
+            not refiner.IsConfirmation(request),
             "%s: a provisional result not taken gives way to the measured one" % name)
     other = make_table(edited, order)
     c.check(refiner.TakeResult(request, other) and sizes(other) == sizes(expected) and
@@ -298,7 +300,8 @@ for order in (1, 2):
             break
     refiner.Wait()
     builds = again.GetBuildCount()
-    c.check(first and refiner.IsReady(request) and refiner.TakeResult(request, again) and
+    c.check(first and refiner.IsReady(request) and refiner.IsConfirmation(request) and
+            refiner.TakeResult(request, again) and not refiner.IsConfirmation(request) and
             again.GetBuildCount() == builds and sizes(again) == sizes(expected) and
             numpy.array_equal(entries(again), entries(expected)),
             "%s: the same sizes measured: the provisional table stays" % name)

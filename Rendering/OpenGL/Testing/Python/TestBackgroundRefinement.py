@@ -12,6 +12,8 @@ for both orders:
   the same image (float capture, within 1e-6: the same table and ray walk);
 - with the worker running, a second drag of 20 edits ends on the refined image of its last
   edit too (after WaitForRefinement());
+- a small edit whose measurement confirms the provisional table drawn for it ends the
+  refinement by itself: no frame, no event, and the image drawn is the measured-at-once one;
 - a change of sample distance, and new data whose values leave the measured range, are
   answered the same way: an interim frame, then the refined one equal to the measured-at-once
   image;
@@ -20,6 +22,8 @@ for both orders:
   measures at once and saw the same steps draws;
 - the interim tables stay within InterimEntries entries.
 """
+
+import time
 
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -206,6 +210,38 @@ for order in (1, 2):
     c.check(not mapper.GetRefining() and sizes(mapper) == reference_sizes and
             float(numpy.abs(refined - reference).max()) <= 1e-6,
             "%s: after a drag with the worker running, the refined image of the last edit" % name)
+
+    # A small edit whose measurement confirms the provisional table (its last measured sizes,
+    # built for the edit and drawn): the refinement ends without another frame or event, and
+    # the image drawn is the measured-at-once one. The provisional table must be drawn before
+    # the measurement ends: an edit whose measurement ended first is tried again.
+    opacity = prop.GetScalarOpacity()
+    nodes = [[0.0] * 4 for _ in range(opacity.GetSize())]
+    for i, node in enumerate(nodes):
+        opacity.GetNodeValue(i, node)
+    peak = max(range(len(nodes)), key=lambda i: nodes[i][1])
+    for attempt in range(5):
+        nodes[peak][1] *= 0.999
+        opacity.SetNodeValue(peak, nodes[peak])
+        view.image()
+        while mapper.GetRefining() and not mapper.GetRefinementReady():
+            time.sleep(0.002)
+        provisional = sizing.GetNumberOfProvisionalTables()
+        drawn = view.image()
+        if sizing.GetNumberOfProvisionalTables() == provisional + 1:
+            break
+        mapper.WaitForRefinement()
+        view.image()
+    events = len(refined_events)
+    mapper.WaitForRefinement()
+    refining = mapper.GetRefining()
+    reference, reference_sizes = measured_at_once(order, image, prop, step)
+    c.check(sizing.GetNumberOfProvisionalTables() == provisional + 1 and not refining and
+            not mapper.CheckRefinement() and len(refined_events) == events and
+            sizes(mapper) == reference_sizes and
+            float(numpy.abs(drawn - reference).max()) <= 1e-6,
+            "%s: a measurement that confirms the provisional table ends the refinement without "
+            "a frame, on the measured-at-once image (%d attempts)" % (name, attempt + 1))
 
     # A new sample distance, then new data whose values leave the measured range (a time
     # step whose sizes must be measured again).
