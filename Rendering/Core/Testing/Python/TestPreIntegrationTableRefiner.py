@@ -23,8 +23,7 @@ orders:
   table of those sizes built for the edit (entries equal to that table built here), given
   before the measurement ends, then the measured one; when the measurement finds the same
   sizes, the final result is a confirmation (IsConfirmation) that changes nothing; without
-  taking the provisional one, only the
-  measured one waits; the result is the same table either way as a plain request's;
+  taking the provisional one, only the measured one waits; the result is the same table either way as a plain request's;
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
   check).
 """
