@@ -2,6 +2,8 @@
 #include "vtkPreIntegrationCandidateEntries.h"
 
 #include "vtkFloatArray.h"
+#include "vtkNew.h"
+#include "vtkSMPTools.h"
 #include "vtkSecondOrderPreIntegrationTable.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
@@ -77,6 +79,99 @@ bool vtkPreIntegrationCandidateEntries::Allocate(vtkSecondOrderPreIntegrationTab
     this->Spacing[a] = sizes[a] > 1 ? span / (sizes[a] - 1) : 0.0;
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationCandidateEntries::Update(vtkSecondOrderPreIntegrationTable* settings,
+  bool prefilter,
+  int tableSize,
+  int chordSize,
+  double chordRange,
+  int deviationSize,
+  double deviationRange)
+{
+  vtkSecondOrderPreIntegrationTable* table = this->Table;
+  const double* range = settings->GetScalarRange();
+  const double* own = table->GetScalarRange();
+  if (!this->Values || table->GetPrefilter() != prefilter || table->GetTableSize() != tableSize ||
+    table->GetChordSize() != chordSize || table->GetChordRange() != chordRange ||
+    table->GetDeviationSize() != deviationSize || table->GetDeviationRange() != deviationRange ||
+    own[0] != range[0] || own[1] != range[1] ||
+    table->GetSegmentLength() != settings->GetSegmentLength() ||
+    table->GetIterations() != settings->GetIterations())
+  {
+    return false;
+  }
+  vtkNew<vtkVolumeTransferFunctionSampler> sampler;
+  sampler->SetFromSampler(settings->GetSampler());
+  if (!sampler->Prepare())
+  {
+    return false;
+  }
+  if (sampler->GetContentHash() == table->GetSampler()->GetContentHash())
+  {
+    return true; // the same transfer functions: every entry stands
+  }
+  // The new iteration table, compared with the one the entries were integrated from.
+  const std::vector<float> before(this->Samples, this->Samples + 4 * this->Kernel.Samples);
+  table->GetSampler()->SetFromSampler(sampler);
+  table->GetSampler()->Prepare();
+  table->BuildIterationTable();
+  const vtkSecondOrderPreIntegrationTableKernel kernel = table->GetKernel();
+  this->Samples = table->GetIterationTable()->GetPointer(0);
+  this->Runs = table->GetIterationEmptyRuns()->GetPointer(0);
+  if (!kernel.SameAs(this->Kernel))
+  {
+    this->Values.reset(); // integrated from another resolution: none can be kept
+    this->States.reset();
+    return false;
+  }
+  int first = kernel.Samples, last = -1;
+  for (int q = 0; q < kernel.Samples; ++q)
+  {
+    if (!std::equal(before.begin() + 4 * q, before.begin() + 4 * q + 4, this->Samples + 4 * q))
+    {
+      first = std::min(first, q);
+      last = q;
+    }
+  }
+  if (last < first)
+  {
+    return true;
+  }
+  // Forget the integrated entries whose paths read a changed sample (and the next one up).
+  const int nc = this->Size[0], nb = this->Size[1];
+  const vtkIdType entries = static_cast<vtkIdType>(nc) * nb * this->Size[2];
+  std::atomic<unsigned char>* states = this->States.get();
+  vtkSMPTools::For(0,
+    entries,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType index = begin; index < end; ++index)
+      {
+        if (states[index].load(std::memory_order_relaxed) == 0)
+        {
+          continue;
+        }
+        const int i = static_cast<int>(index % nc);
+        const int j = static_cast<int>((index / nc) % nb);
+        const int k = static_cast<int>(index / (static_cast<vtkIdType>(nc) * nb));
+        int low, high;
+        kernel.SampleRange(i, std::min(j, nb - 1 - j), k, low, high); // as Ensure() integrates
+        if (high >= first && low <= last)
+        {
+          states[index].store(0, std::memory_order_relaxed);
+        }
+      }
+    });
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkPreIntegrationCandidateEntries::GetReservedBytes() const
+{
+  const double entries = static_cast<double>(this->Size[0]) * this->Size[1] * this->Size[2];
+  return this->Values ? 17.0 * entries : 0.0;
 }
 
 //------------------------------------------------------------------------------

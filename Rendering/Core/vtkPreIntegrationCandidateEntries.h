@@ -15,7 +15,10 @@
  * share one store and integrate each entry they have in common once.
  *
  * The values are left uninitialized and the states come from calloc (zero pages mapped on
- * first touch), so that neither costs time in proportion to the grid's size.
+ * first touch), so that neither costs time in proportion to the grid's size. A store outlives
+ * an edit of the transfer functions: Update() takes the new ones and forgets only the entries
+ * whose paths read an iteration-table sample that changed (the others keep their values, bit
+ * for bit, as vtkSecondOrderPreIntegrationTable's incremental build does).
  *
  * Part of vtkPreIntegrationTableSizer: a value class for its inner loops (not a vtkObject,
  * not wrapped, not installed).
@@ -54,6 +57,27 @@ public:
     double chordRange,
     int deviationSize,
     double deviationRange);
+
+  /**
+   * Take the transfer functions of `settings` for the same grid as the last Allocate() (the
+   * same arguments, and the same scalar range, segment length and iterations of `settings`):
+   * the entries whose paths read an iteration-table sample that changed are integrated
+   * again when next read, the others stay. False, with the store unchanged, when the grid
+   * or the kernel differ (a new transfer function can change the iteration table's
+   * resolution): Allocate() then makes a new store.
+   */
+  bool Update(vtkSecondOrderPreIntegrationTable* settings,
+    bool prefilter,
+    int tableSize,
+    int chordSize,
+    double chordRange,
+    int deviationSize,
+    double deviationRange);
+
+  /**
+   * Bytes the store reserves (values and states; only the pages of entries read are touched).
+   */
+  double GetReservedBytes() const;
 
   /**
    * The store's axis a (1: chord, 2: deviation): its entries and its spacing in data units

@@ -129,6 +129,9 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredChordRange = 0.0;
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
+  // The entries the candidates of each centre size shared in the last Choose(), kept for the
+  // next one (KeepEntries).
+  std::vector<std::unique_ptr<vtkPreIntegrationCandidateEntries>> Stores;
   std::atomic<bool> AbortRequested{ false };
   std::atomic<double> Progress{ 1.0 };
   bool LowPriority = false; // loops in threads of low priority
@@ -229,6 +232,7 @@ void vtkPreIntegrationTableSizer::CopySettings(vtkPreIntegrationTableSizer* othe
   this->SetMeasureExactModel(other->MeasureExactModel);
   this->SetMeasurePrefilter(other->MeasurePrefilter);
   this->SetStopAtConvergence(other->StopAtConvergence);
+  this->SetKeepEntries(other->KeepEntries);
   this->SetOpacityThreshold(other->OpacityThreshold);
 }
 
@@ -752,6 +756,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     I.Candidates.push_back(c);
     return static_cast<int>(I.Candidates.size()) - 1;
   };
+  // The last Choose()'s shared entries: a store of the same grid takes the new transfer
+  // functions and keeps the entries that read no changed sample; the others are freed.
+  std::vector<std::unique_ptr<vtkPreIntegrationCandidateEntries>> last = std::move(I.Stores);
+  I.Stores.clear();
   // The store of a centre size's candidates (of one prefilter): the finest of their spacings
   // on each axis, over the widest of their extents; none when it would hold more than twice
   // the entries a table may have (the finest spacings of two axes belonging to candidates too
@@ -783,14 +791,19 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     {
       return store;
     }
+    const double ranges[2] = { 0.5 * (sizes[0] - 1) * step[0], 0.5 * (sizes[1] - 1) * step[1] };
+    for (auto& before : last)
+    {
+      if (before &&
+        before->Update(
+          table, prefilter, level.front().Sizes[0], sizes[0], ranges[0], sizes[1], ranges[1]))
+      {
+        return std::move(before);
+      }
+    }
     store.reset(new vtkPreIntegrationCandidateEntries);
-    if (!store->Allocate(table,
-          prefilter,
-          level.front().Sizes[0],
-          sizes[0],
-          0.5 * (sizes[0] - 1) * step[0],
-          sizes[1],
-          0.5 * (sizes[1] - 1) * step[1]))
+    if (!store->Allocate(
+          table, prefilter, level.front().Sizes[0], sizes[0], ranges[0], sizes[1], ranges[1]))
     {
       store.reset();
     }
@@ -946,6 +959,13 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
       }
     }
+    for (int p = 0; p < 2 && this->KeepEntries; ++p)
+    {
+      if (shared[p])
+      {
+        I.Stores.push_back(std::move(shared[p]));
+      }
+    }
     ++this->NumberOfLevels;
     // The levels ahead are not known: each measured one goes half the rest of the way.
     this->ReportProgress(1.0 - 0.55 * std::pow(0.5, this->NumberOfLevels));
@@ -1082,6 +1102,7 @@ void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpacityThreshold: " << this->OpacityThreshold << "\n";
   os << indent << "ReferenceTolerance: " << this->ReferenceTolerance << "\n";
   os << indent << "StopAtConvergence: " << this->StopAtConvergence << "\n";
+  os << indent << "KeepEntries: " << this->KeepEntries << "\n";
   os << indent << "MeasurePrefilter: " << this->MeasurePrefilter << "\n";
   os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
   os << indent << "ExactError: " << this->ExactError << "\n";

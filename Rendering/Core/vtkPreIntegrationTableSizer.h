@@ -163,6 +163,21 @@ public:
 
   ///@{
   /**
+   * Keep the entries the candidates of each centre size shared (see class documentation)
+   * from one Choose() to the next: after an edit of the transfer functions, a candidate grid
+   * measured again integrates only the entries whose paths read a changed sample (a narrow
+   * edit changes few), the others keep their values bit for bit. They take up to 17 bytes
+   * per entry of each grid, reserved but touched only where rays read (each grid is at most
+   * twice MaximumMemory's entries). Off frees them at the end of each Choose(). Initial
+   * value is true.
+   */
+  vtkSetMacro(KeepEntries, bool);
+  vtkGetMacro(KeepEntries, bool);
+  vtkBooleanMacro(KeepEntries, bool);
+  ///@}
+
+  ///@{
+  /**
    * Rays stop once their opacity exceeds this value, as the renderer's. Initial value is
    * 1 - 1/255.
    */
@@ -238,7 +253,7 @@ public:
   /**
    * Take the settings of other (NumberOfRays, Seed, Tolerance, MaximumMemory, BytesPerEntry,
    * MaximumAxisSize, ReferenceTolerance, MeasureExactModel, MeasurePrefilter,
-   * StopAtConvergence, OpacityThreshold).
+   * StopAtConvergence, KeepEntries, OpacityThreshold).
    */
   void CopySettings(vtkPreIntegrationTableSizer* other);
 
@@ -315,6 +330,7 @@ protected:
   bool MeasureExactModel = false;
   bool MeasurePrefilter = false;
   bool StopAtConvergence = true;
+  bool KeepEntries = true;
   int NumberOfLevels = 0;
   double ReferenceTolerance = 1.0 / 64.0;
   int ChosenCandidate = -1;

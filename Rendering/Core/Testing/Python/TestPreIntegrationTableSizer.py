@@ -26,7 +26,9 @@ says).
 The judge measures on rays, not on a camera image, to see many directions at once; the rays
 are composited as the shader does (vtkPreIntegrationRayMarch, which matches the GPU image,
 TestPreIntegrationRayCaster) with the builders' own entries (the kernel,
-TestSecondOrderPreIntegrationTable).
+TestSecondOrderPreIntegrationTable). In the first four cases every candidate must measure, bit
+for bit, as the candidate measured alone: with the entries its centre size shares, with those
+kept from the Choose() before an edit of the opacity, and under small axis and memory limits.
 """
 
 import math
@@ -222,6 +224,24 @@ for case in CASE_NUMBERS:
             wrong = alone_mismatches(sizer, table)
             c.check(not wrong, "seed %d order %d: %d candidates measure as alone (%s)" % (
                 seed, order, sizer.GetNumberOfCandidates(), wrong[:3]))
+            # An edit of the highest opacity node: the sizer's entries kept from the last
+            # Choose() take the new transfer function, and every candidate still measures as
+            # alone (entries integrated afresh).
+            opacity = prop.GetScalarOpacity()
+            nodes = [[0.0] * 4 for _ in range(opacity.GetSize())]
+            for i, node in enumerate(nodes):
+                opacity.GetNodeValue(i, node)
+            peak = max(range(len(nodes)), key=lambda i: nodes[i][1])
+            edited = list(nodes[peak])
+            edited[1] *= 0.8
+            opacity.SetNodeValue(peak, edited)
+            if c.check(sizer.Choose(image, image.GetPointData().GetScalars(), table, order, step),
+                       "seed %d order %d: the sizer chooses after an edit" % (seed, order)):
+                wrong = alone_mismatches(sizer, table)
+                c.check(not wrong, "seed %d order %d: after an edit, %d candidates measure with "
+                        "the kept entries as alone (%s)" % (
+                            seed, order, sizer.GetNumberOfCandidates(), wrong[:3]))
+            opacity.SetNodeValue(peak, nodes[peak])
             # Axes cut to a size limit and a small memory limit: candidates off the shared grid
             # and levels without one.
             small = hovr.vtkPreIntegrationTableSizer()
