@@ -42,6 +42,7 @@ struct Candidate
   double Error;
   double Memory;
   std::vector<double> PerRay; // squared errors of the rays
+  bool Dropped;               // by the screening rays: measured on them alone, never chosen
 };
 
 // The random rays: index-space origin, direction, and interval inside the box.
@@ -156,29 +157,42 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   // perRay, and the RMSE over all rays.
   double Score(const std::vector<double>& rgba, std::vector<double>& perRay) const
   {
+    return this->Score(rgba, perRay, 0, this->Rays.size());
+  }
+  // The same for rays [begin, end) (rgba holding theirs), the others of perRay set to 0.
+  double Score(const std::vector<double>& rgba,
+    std::vector<double>& perRay,
+    size_t begin,
+    size_t end) const
+  {
     perRay.assign(this->Rays.size(), 0.0);
     double total = 0.0;
-    for (size_t r = 0; r < this->Rays.size(); ++r)
+    for (size_t r = begin; r < end; ++r)
     {
       double sum = 0.0;
       for (int c = 0; c < 4; ++c)
       {
-        const double d = rgba[4 * r + c] - this->Reference[4 * r + c];
+        const double d = rgba[4 * (r - begin) + c] - this->Reference[4 * r + c];
         sum += d * d;
       }
       perRay[r] = 0.25 * sum;
       total += perRay[r];
     }
-    return std::sqrt(total / std::max<size_t>(perRay.size(), 1));
+    return std::sqrt(total / std::max<size_t>(end - begin, 1));
   }
 
-  // The kept pieces of every ray composited with a table lookup (Read(axes, fraction, rgba)),
-  // front to back as March::Cast does, scored.
+  // The kept pieces of rays [first, last) (all by default) composited with a table lookup
+  // (Read(axes, fraction, rgba)), front to back as March::Cast does, scored.
   template <class Lookup>
-  double MeasurePieces(const Lookup& lookup, std::vector<double>& perRay) const
+  double MeasurePieces(const Lookup& lookup,
+    std::vector<double>& perRay,
+    size_t first = 0,
+    size_t last = static_cast<size_t>(-1)) const
   {
-    std::vector<double> rgba(4 * this->Rays.size(), 0.0);
-    this->For(static_cast<vtkIdType>(this->Rays.size()),
+    last = std::min(last, this->Rays.size());
+    first = std::min(first, last);
+    std::vector<double> rgba(4 * (last - first), 0.0);
+    this->For(static_cast<vtkIdType>(last - first),
       [&](vtkIdType begin, vtkIdType end)
       {
         if (this->AbortRequested.load(std::memory_order_relaxed))
@@ -186,9 +200,10 @@ struct vtkPreIntegrationTableSizer::vtkInternals
           return;
         }
         const Lookup chunkLookup(lookup); // with scratch memory of its own
-        for (vtkIdType r = begin; r < end; ++r)
+        for (vtkIdType k = begin; k < end; ++k)
         {
-          double* sum = &rgba[4 * r];
+          const size_t r = first + static_cast<size_t>(k);
+          double* sum = &rgba[4 * k];
           for (size_t p = this->PieceStart[r]; p < this->PieceStart[r + 1]; ++p)
           {
             const Piece& piece = this->Pieces[p];
@@ -202,7 +217,7 @@ struct vtkPreIntegrationTableSizer::vtkInternals
           }
         }
       });
-    return this->AbortRequested.load() ? -1.0 : this->Score(rgba, perRay);
+    return this->AbortRequested.load() ? -1.0 : this->Score(rgba, perRay, first, last);
   }
 };
 
@@ -233,6 +248,7 @@ void vtkPreIntegrationTableSizer::CopySettings(vtkPreIntegrationTableSizer* othe
   this->SetMeasurePrefilter(other->MeasurePrefilter);
   this->SetStopAtConvergence(other->StopAtConvergence);
   this->SetKeepEntries(other->KeepEntries);
+  this->SetScreeningFraction(other->ScreeningFraction);
   this->SetOpacityThreshold(other->OpacityThreshold);
 }
 
@@ -345,6 +361,13 @@ bool vtkPreIntegrationTableSizer::GetCandidatePrefilter(int candidate) const
 {
   const auto& all = this->Internals->Candidates;
   return candidate >= 0 && candidate < static_cast<int>(all.size()) && all[candidate].Prefilter;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPreIntegrationTableSizer::GetCandidateDropped(int candidate) const
+{
+  const auto& all = this->Internals->Candidates;
+  return candidate >= 0 && candidate < static_cast<int>(all.size()) && all[candidate].Dropped;
 }
 
 //------------------------------------------------------------------------------
@@ -649,7 +672,9 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
   double chordRange,
   double deviationRange,
   bool prefilter,
-  const vtkPreIntegrationCandidateEntries* shared)
+  const vtkPreIntegrationCandidateEntries* shared,
+  vtkIdType begin,
+  vtkIdType end)
 {
   vtkInternals& I = *this->Internals;
   if (!I.Table || tableSize < 2 || chordSize < 1 || deviationSize < 1)
@@ -670,7 +695,18 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
       return -1.0;
     }
   }
-  return I.MeasurePieces(lookup, I.LastPerRay);
+  return I.MeasurePieces(lookup,
+    I.LastPerRay,
+    static_cast<size_t>(std::max<vtkIdType>(begin, 0)),
+    end < 0 ? I.Rays.size() : static_cast<size_t>(end));
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPreIntegrationTableSizer::GetScreeningRays() const
+{
+  const vtkIdType rays = static_cast<vtkIdType>(this->Internals->Rays.size());
+  const vtkIdType screened = static_cast<vtkIdType>(std::ceil(this->ScreeningFraction * rays));
+  return std::min(rays, std::max<vtkIdType>(screened, 256));
 }
 
 //------------------------------------------------------------------------------
@@ -735,9 +771,17 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     }
     c.Memory = static_cast<double>(c.Sizes[0]) * c.Sizes[1] * c.Sizes[2] * this->BytesPerEntry;
     c.Error = -1.0;
+    c.Dropped = false;
     return c;
   };
   auto fits = [&](const Candidate& c) { return c.Memory <= this->MaximumMemory; };
+  // Each candidate is measured on the screening rays first, and on the others unless they
+  // drop it; the comparisons run over the rays [0, active), and while screening over every
+  // candidate measured (dropped or not), else over those measured on all the rays.
+  const size_t all = I.Rays.size();
+  const size_t screen = static_cast<size_t>(this->GetScreeningRays());
+  size_t active = all;
+  bool screening = false;
   auto evaluate = [&](Candidate c, const vtkPreIntegrationCandidateEntries* shared)
   {
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
@@ -750,8 +794,15 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         return i;
       }
     }
-    c.Error = this->MeasureCandidate(
-      c.Sizes[0], c.Sizes[1], c.Sizes[2], c.Ranges[0], c.Ranges[1], c.Prefilter, shared);
+    c.Error = this->MeasureCandidate(c.Sizes[0],
+      c.Sizes[1],
+      c.Sizes[2],
+      c.Ranges[0],
+      c.Ranges[1],
+      c.Prefilter,
+      shared,
+      0,
+      static_cast<vtkIdType>(screen));
     c.PerRay = I.LastPerRay;
     I.Candidates.push_back(c);
     return static_cast<int>(I.Candidates.size()) - 1;
@@ -815,7 +866,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     const std::vector<double>& e = I.Candidates[i].PerRay;
     double sum = 0.0;
     int count = 0;
-    for (size_t r = begin; r < e.size(); r += stride, ++count)
+    for (size_t r = begin; r < active; r += stride, ++count)
     {
       sum += e[r];
     }
@@ -827,7 +878,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     double leastError = 0.0;
     for (int i = 0; i < static_cast<int>(I.Candidates.size()); ++i)
     {
-      if (I.Candidates[i].Error < 0.0)
+      if (I.Candidates[i].Error < 0.0 || (I.Candidates[i].Dropped && !screening))
       {
         continue;
       }
@@ -841,11 +892,11 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     return least;
   };
   auto best = [&]() { return bestOn(0, 1); };
-  // Within Tolerance of the best on the rays begin, begin + stride, ..., with confidence: the
-  // rays are the same for every candidate, so the difference of two candidates' mean squared
-  // errors has the standard error of the per-ray differences; the mean squared error plus two
-  // of those must be within (1 + Tolerance)^2 of the best's.
-  auto goodOn = [&](int i, int begin, int stride)
+  // Within `tolerance` of the best on the rays begin, begin + stride, ..., with confidence:
+  // the rays are the same for every candidate, so the difference of two candidates' mean
+  // squared errors has the standard error of the per-ray differences; the mean squared error
+  // plus `margin` of those must be within (1 + tolerance)^2 of the best's.
+  auto within = [&](int i, int begin, int stride, double tolerance, double margin)
   {
     const int b = bestOn(begin, stride);
     if (i == b)
@@ -856,7 +907,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     const std::vector<double>& cb = I.Candidates[b].PerRay;
     double mean = 0.0, square = 0.0;
     int n = 0;
-    for (size_t r = begin; r < ci.size(); r += stride, ++n)
+    for (size_t r = begin; r < active; r += stride, ++n)
     {
       const double d = ci[r] - cb[r];
       mean += d;
@@ -866,9 +917,11 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     mean /= n;
     const double deviation = std::sqrt(std::max(square / n - mean * mean, 0.0) / n);
     const double bestSquare = subsetError(b, begin, stride);
-    const double allowed = (1.0 + this->Tolerance) * (1.0 + this->Tolerance);
-    return bestSquare + mean + 2.0 * deviation <= allowed * bestSquare;
+    const double allowed = (1.0 + tolerance) * (1.0 + tolerance);
+    return bestSquare + mean + margin * deviation <= allowed * bestSquare;
   };
+  auto goodOn = [&](int i, int begin, int stride)
+  { return within(i, begin, stride, this->Tolerance, 2.0); };
   // Whether candidate i is, with confidence, within half the Tolerance of the exact segment
   // model (or better): finer tables converge to that model, so the search can stop there.
   // Confidence matters: a finer table can still beat the model by far more than a level
@@ -876,7 +929,8 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   auto nearExact = [&](int i)
   {
     const std::vector<double>& exact = I.ExactPerRay;
-    if (i < 0 || exact.empty() || exact.size() != I.Candidates[i].PerRay.size())
+    if (i < 0 || I.Candidates[i].Dropped || exact.empty() ||
+      exact.size() != I.Candidates[i].PerRay.size())
     {
       return false;
     }
@@ -959,6 +1013,50 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
       }
     }
+    // The screening: this centre size's candidates that the screening rays cannot tell, with
+    // confidence, are out of twice the Tolerance of the best so far are measured on the
+    // others too; the rest are dropped.
+    if (screen < all)
+    {
+      active = screen;
+      screening = true;
+      for (size_t i = first; i < I.Candidates.size(); ++i)
+      {
+        Candidate& c = I.Candidates[i];
+        c.Dropped =
+          c.Error >= 0.0 && !within(static_cast<int>(i), 0, 1, 2.0 * this->Tolerance, -2.0);
+      }
+      active = all;
+      screening = false;
+      for (size_t i = first; i < I.Candidates.size(); ++i)
+      {
+        Candidate& c = I.Candidates[i];
+        if (c.Error < 0.0 || c.Dropped)
+        {
+          continue;
+        }
+        const double rest = this->MeasureCandidate(c.Sizes[0],
+          c.Sizes[1],
+          c.Sizes[2],
+          c.Ranges[0],
+          c.Ranges[1],
+          c.Prefilter,
+          shared[c.Prefilter ? 1 : 0].get(),
+          static_cast<vtkIdType>(screen),
+          static_cast<vtkIdType>(all));
+        if (I.AbortRequested)
+        {
+          return this->Stop();
+        }
+        std::copy(I.LastPerRay.begin() + screen, I.LastPerRay.end(), c.PerRay.begin() + screen);
+        double sum = 0.0;
+        for (double e : c.PerRay)
+        {
+          sum += e;
+        }
+        c.Error = rest < 0.0 ? -1.0 : std::sqrt(sum / std::max<size_t>(all, 1));
+      }
+    }
     for (int p = 0; p < 2 && this->KeepEntries; ++p)
     {
       if (shared[p])
@@ -977,7 +1075,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     int levelBestIndex = -1;
     for (size_t i = first; i < I.Candidates.size(); ++i)
     {
-      const double e = I.Candidates[i].Error;
+      const double e = I.Candidates[i].Dropped ? -1.0 : I.Candidates[i].Error;
       if (e >= 0.0 && (levelBest < 0.0 || e < levelBest))
       {
         levelBest = e;
@@ -1016,7 +1114,7 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
   // errors are heavy-tailed, rays grazing a sharp feature carry most of the error).
   auto goodAt = [&](int i, int halves)
   {
-    return I.Candidates[i].Error >= 0.0 && goodOn(i, 0, 1) &&
+    return I.Candidates[i].Error >= 0.0 && !I.Candidates[i].Dropped && goodOn(i, 0, 1) &&
       static_cast<int>(goodOn(i, 0, 2)) + static_cast<int>(goodOn(i, 1, 2)) >= halves;
   };
   // The least memory among the candidates good at `halves`; of equal memory (with and without
@@ -1103,6 +1201,7 @@ void vtkPreIntegrationTableSizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReferenceTolerance: " << this->ReferenceTolerance << "\n";
   os << indent << "StopAtConvergence: " << this->StopAtConvergence << "\n";
   os << indent << "KeepEntries: " << this->KeepEntries << "\n";
+  os << indent << "ScreeningFraction: " << this->ScreeningFraction << "\n";
   os << indent << "MeasurePrefilter: " << this->MeasurePrefilter << "\n";
   os << indent << "ChosenCandidate: " << this->ChosenCandidate << "\n";
   os << indent << "ExactError: " << this->ExactError << "\n";

@@ -21,22 +21,29 @@
  *      8 times the centre spacing, over whole spacings that cover the measured extents),
  *      computing only the entries the rays read (vtkSecondOrderPreIntegrationTableKernel, the
  *      builders' own integration) and each once for all the candidates of a centre size
- *      (vtkPreIntegrationCandidateEntries: their entries lie on the finest one's grid), and
- *      with the exact segment model (each piece integrated along its model path, no table);
- *   4. it keeps the candidate with the least memory whose error against the reference (RMSE
- *      of premultiplied RGBA over the rays) is, with confidence, within Tolerance of the least
- *      error measured, on all the rays and on each half of them: the per-ray differences to
- *      the best candidate must stay below the allowance by two of their standard errors. The
- *      per-ray errors are heavy-tailed (rays grazing a sharp feature carry most of the
- *      error), and a table good only by the luck of a few rays should not be chosen. When the
- *      halves' bests differ by more than their rays resolve, so that no candidate is good on
- *      both, it keeps the least memory good on all the rays and one half (else the best). The
- *      table's own sizes (an earlier Choose()'s) stay when they are among those good
- *      candidates and take at most twice the least memory: near-equal candidates would
- *      otherwise trade places from edit to edit, each trade rebuilding the table.
- * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured,
- * centre size by centre size from the coarsest: a coarse axis can measure better than a finer
- * one on one axis and not another, so a search that skips candidates misses the best. Finer
+ *      (vtkPreIntegrationCandidateEntries: their entries lie on the finest one's grid; with
+ *      KeepEntries they outlive the Choose(), and an edit of the transfer functions
+ *      integrates again only the entries that read what changed), and with the exact segment
+ *      model (each piece integrated along its model path, no table). Each candidate is
+ *      measured on the first ScreeningFraction of the rays first; those rays drop, with
+ *      confidence, the candidates out of twice the Tolerance of the best so far, and the
+ *      others are measured on all the rays;
+ *   4. it keeps the candidate (not dropped) with the least memory whose error against the
+ *      reference (RMSE of premultiplied RGBA over the rays) is, with confidence, within
+ *      Tolerance of the least error measured, on all the rays and on each half of them: the
+ *      per-ray differences to the best candidate must stay below the allowance by two of
+ *      their standard errors. The per-ray errors are heavy-tailed (rays grazing a sharp
+ *      feature carry most of the error), and a table good only by the luck of a few rays
+ *      should not be chosen. When the halves' bests differ by more than their rays resolve,
+ *      so that no candidate is good on both, it keeps the least memory good on all the rays
+ *      and one half (else the best). The table's own sizes (an earlier Choose()'s) stay when
+ *      they are among those good candidates and take at most twice the least memory:
+ *      near-equal candidates would otherwise trade places from edit to edit, each trade
+ *      rebuilding the table.
+ * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured (on
+ * the screening rays at least), centre size by centre size from the coarsest: a coarse axis
+ * can measure better than a finer one on one axis and not another, so a search that skips
+ * candidates misses the best. Finer
  * centre sizes converge to the exact segment model, so with StopAtConvergence the search stops
  * after the first centre size whose best is, with confidence, within half the Tolerance of that
  * model's error (or better), or after two centre sizes in a row whose best improves on the
@@ -163,6 +170,19 @@ public:
 
   ///@{
   /**
+   * The fraction of the rays each candidate is measured on first (the first of the
+   * quasi-random rays, which spread evenly). A candidate that these rays tell, with
+   * confidence, is out of twice the Tolerance of the best candidate measured so far is
+   * dropped (GetCandidateDropped(): its error is then over these rays alone, and it is not
+   * chosen); the others are measured on all the rays, and the search's rules and the choice
+   * use all the rays. 1 measures every candidate on all the rays. Initial value is 0.25.
+   */
+  vtkSetClampMacro(ScreeningFraction, double, 0.01, 1.0);
+  vtkGetMacro(ScreeningFraction, double);
+  ///@}
+
+  ///@{
+  /**
    * Keep the entries the candidates of each centre size shared (see class documentation)
    * from one Choose() to the next: after an edit of the transfer functions, a candidate grid
    * measured again integrates only the entries whose paths read a changed sample (a narrow
@@ -253,7 +273,7 @@ public:
   /**
    * Take the settings of other (NumberOfRays, Seed, Tolerance, MaximumMemory, BytesPerEntry,
    * MaximumAxisSize, ReferenceTolerance, MeasureExactModel, MeasurePrefilter,
-   * StopAtConvergence, KeepEntries, OpacityThreshold).
+   * StopAtConvergence, ScreeningFraction, KeepEntries, OpacityThreshold).
    */
   void CopySettings(vtkPreIntegrationTableSizer* other);
 
@@ -297,11 +317,11 @@ public:
   ///@{
   /**
    * What the last Choose() measured: the candidates in the order they were evaluated (their
-   * TableSize, ChordSize and DeviationSize, ChordRange and DeviationRange, prefilter, error and
-   * memory in bytes), the one chosen
-   * (-1 if none), the error of the exact segment model (no table; -1 when neither
-   * MeasureExactModel nor StopAtConvergence is on), the rays that met the volume, the centre sizes
-   * measured, and the wall time in seconds.
+   * TableSize, ChordSize and DeviationSize, ChordRange and DeviationRange, prefilter, error,
+   * memory in bytes and whether the screening rays dropped it: its error is then over those
+   * rays alone), the one chosen (-1 if none), the error of the exact segment model (no table; -1
+   * when neither MeasureExactModel nor StopAtConvergence is on), the rays that met the volume, the
+   * centre sizes measured, and the wall time in seconds.
    */
   int GetNumberOfCandidates() const;
   void GetCandidateSizes(int candidate, int sizes[3]) const;
@@ -309,6 +329,7 @@ public:
   double GetCandidateError(int candidate) const;
   double GetCandidateMemory(int candidate) const;
   bool GetCandidatePrefilter(int candidate) const;
+  bool GetCandidateDropped(int candidate) const;
   vtkGetMacro(ChosenCandidate, int);
   vtkGetMacro(ExactError, double);
   vtkGetMacro(NumberOfRaysInVolume, int);
@@ -331,6 +352,7 @@ protected:
   bool MeasurePrefilter = false;
   bool StopAtConvergence = true;
   bool KeepEntries = true;
+  double ScreeningFraction = 0.25;
   int NumberOfLevels = 0;
   double ReferenceTolerance = 1.0 / 64.0;
   int ChosenCandidate = -1;
@@ -346,14 +368,19 @@ private:
   // Sets GetProgress() and fires ProgressEvent.
   void ReportProgress(double progress);
   // Measure() with an explicit prefilter, reading the entries of shared (when given) where
-  // they lie on its grid.
+  // they lie on its grid, on the rays [begin, end) (end < 0: to the last).
   double MeasureCandidate(int tableSize,
     int chordSize,
     int deviationSize,
     double chordRange,
     double deviationRange,
     bool prefilter,
-    const vtkPreIntegrationCandidateEntries* shared = nullptr);
+    const vtkPreIntegrationCandidateEntries* shared = nullptr,
+    vtkIdType begin = 0,
+    vtkIdType end = -1);
+  // The rays each candidate is screened on: the first ScreeningFraction of those in the
+  // volume, at least 256 of them (all when fewer).
+  vtkIdType GetScreeningRays() const;
 
   vtkPreIntegrationTableSizer(const vtkPreIntegrationTableSizer&) = delete;
   void operator=(const vtkPreIntegrationTableSizer&) = delete;

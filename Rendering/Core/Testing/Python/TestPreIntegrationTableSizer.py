@@ -26,9 +26,13 @@ says).
 The judge measures on rays, not on a camera image, to see many directions at once; the rays
 are composited as the shader does (vtkPreIntegrationRayMarch, which matches the GPU image,
 TestPreIntegrationRayCaster) with the builders' own entries (the kernel,
-TestSecondOrderPreIntegrationTable). In the first four cases every candidate must measure, bit
-for bit, as the candidate measured alone: with the entries its centre size shares, with those
-kept from the Choose() before an edit of the opacity, and under small axis and memory limits.
+TestSecondOrderPreIntegrationTable). Each case is also chosen without the screening
+(vtkPreIntegrationTableSizer::ScreeningFraction 1, every candidate measured on all the rays)
+from the same table state: the judge must find the screened choice's error within 2% of that
+choice's, with the same confidence rule. In the first four cases every candidate measured on all
+the rays (not dropped by the screening) must measure, bit for bit, as the candidate measured
+alone: with the entries its centre size shares, with those kept from the Choose() before an edit
+of the opacity, and under small axis and memory limits.
 """
 
 import math
@@ -48,6 +52,7 @@ CASES = 50          # random transfer functions, each for both orders
 FIRST_SEED = 1000   # clear of seeds 0-59, the sizer's tuning cases
 JUDGE_RAYS = 8192
 TOLERANCE = 1.05    # the chosen table's error over the best swept table's
+SCREENED_TOLERANCE = 1.02  # the chosen table's error over the unscreened choice's
 
 
 def field(kind, n, rng):
@@ -109,6 +114,7 @@ def run_case(seed, order, step, image, prop, table, sizer, judge):
     table.SetSegmentLength(order * step)
     table.SetPrefilter(False)
     sizer.SetMeasurePrefilter(order == 1)  # as the mapper's automatic prefilter
+    before = table_state(table)
     start = time.perf_counter()
     if not sizer.Choose(image, scalars, table, order, step):
         return None
@@ -116,10 +122,29 @@ def run_case(seed, order, step, image, prop, table, sizer, judge):
     chosen = (table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize())
     chosen_prefilter = table.GetPrefilter()
     chord, deviation = table.GetChordRange(), table.GetDeviationRange()
+    after = table_state(table)
+    # The same choice without the screening (every candidate on all the rays), from the same
+    # table state.
+    full = hovr.vtkPreIntegrationTableSizer()
+    full.SetMeasurePrefilter(order == 1)
+    full.SetScreeningFraction(1.0)
+    set_table_state(table, before)
+    full.Choose(image, scalars, table, order, step)
+    unscreened = table_state(table)
+    set_table_state(table, unscreened)
     judge.Prepare(image, scalars, table, order, step)
+    unscreened_error = judge.Measure(*unscreened[:3], unscreened[3], unscreened[4])
+    unscreened_rays = vtkDoubleArray()
+    judge.GetLastMeasurePerRay(unscreened_rays)
+    set_table_state(table, after)
     chosen_error = judge.Measure(*chosen, chord, deviation)
     chosen_rays = vtkDoubleArray()
     judge.GetLastMeasurePerRay(chosen_rays)
+    differences = vtk_to_numpy(chosen_rays) - vtk_to_numpy(unscreened_rays)
+    margin = 2.0 * differences.std() / math.sqrt(differences.size)
+    screened_lower = (math.sqrt(max(unscreened_error ** 2, chosen_error ** 2 - margin)) /
+                      unscreened_error if unscreened_error > 0 else 1.0)
+    screened_ratio = chosen_error / unscreened_error if unscreened_error > 0 else 1.0
     best_error, best, best_rays = math.inf, None, None
     best_by_prefilter = {}
     width = high - low
@@ -158,8 +183,23 @@ def run_case(seed, order, step, image, prop, table, sizer, judge):
             "best_error": best_error, "ratio": chosen_error / best_error if best_error > 0 else 1.0,
             "lower": lower, "prefilter_gain": best_by_prefilter.get(True, math.nan)
             / best_by_prefilter[False], "prefiltered": chosen_prefilter,
-            "choose_s": choose_s, "build_s": build_s,
+            "choose_s": choose_s, "build_s": build_s, "screened_ratio": screened_ratio,
+            "screened_lower": screened_lower, "same_as_unscreened": after == unscreened,
             "mib": table.GetNumberOfEntries() * 8 / 2 ** 20}
+
+
+def table_state(table):
+    return (table.GetTableSize(), table.GetChordSize(), table.GetDeviationSize(),
+            table.GetChordRange(), table.GetDeviationRange(), table.GetPrefilter())
+
+
+def set_table_state(table, state):
+    table.SetTableSize(state[0])
+    table.SetChordSize(state[1])
+    table.SetDeviationSize(state[2])
+    table.SetChordRange(state[3])
+    table.SetDeviationRange(state[4])
+    table.SetPrefilter(state[5])
 
 
 def alone_mismatches(sizer, table):
@@ -169,6 +209,8 @@ def alone_mismatches(sizer, table):
     kept = table.GetPrefilter()
     sizes, ranges, wrong = [0, 0, 0], [0.0, 0.0], []
     for i in range(sizer.GetNumberOfCandidates()):
+        if sizer.GetCandidateDropped(i):
+            continue  # its error is over the screening rays alone
         sizer.GetCandidateSizes(i, sizes)
         sizer.GetCandidateRanges(i, ranges)
         table.SetPrefilter(sizer.GetCandidatePrefilter(i))
@@ -280,6 +322,13 @@ print("chosen tables: memory median %.2f MiB, largest %.2f MiB; building median 
           numpy.median([r["mib"] for r in results]), max(r["mib"] for r in results),
           numpy.median([r["build_s"] for r in results]), max(r["build_s"] for r in results),
           numpy.median(fresh), max(fresh), numpy.median(kept), max(kept)))
+screened = numpy.array([r["screened_ratio"] for r in results])
+screened_worst = max(results, key=lambda r: r["screened_ratio"])
+print("screening: the same sizes as without it in %d of %d; chosen error over the unscreened "
+      "choice's (judge's rays): median %.4f, best %.4f, worst %.4f (at least %.4f with "
+      "confidence; %s)" % (sum(r["same_as_unscreened"] for r in results), len(results),
+                           numpy.median(screened), screened.min(), screened_worst["screened_ratio"],
+                           screened_worst["screened_lower"], screened_worst["label"]))
 first = [r for r in results if r["label"].split(", ")[1] == "order 1"]
 gains = numpy.array([r["prefilter_gain"] for r in first])
 print("first order: the best prefiltered table's error over the best unprefiltered one's: median "
@@ -290,6 +339,9 @@ print("first order: the best prefiltered table's error over the best unprefilter
                                      sum(r["prefiltered"] for r in first)))
 c.check(len(results) == 2 * len(CASE_NUMBERS), "every case measured")
 for r in results:
+    c.check(r["screened_lower"] <= SCREENED_TOLERANCE, "%s: the screened choice's error is within "
+            "2%% of the unscreened choice's (%.4f as measured, at least %.4f with confidence)"
+            % (r["label"], r["screened_ratio"], r["screened_lower"]))
     c.check(r["lower"] <= TOLERANCE, "%s: the chosen table's error is within 5%% of the best "
             "swept table's (%.3f as measured, at least %.3f with confidence)"
             % (r["label"], r["ratio"], r["lower"]))
