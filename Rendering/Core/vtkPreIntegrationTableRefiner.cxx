@@ -77,6 +77,7 @@ struct Job
   bool LowPriority = true;
   // A provisional table first, of the request's table's sizes, ranges and prefilter.
   bool Provisional = false;
+  bool Drawn = false; // the caller draws the kept sizes: finding them again is a confirmation
   int KeptSizes[3] = { 2, 1, 1 };
   double KeptRanges[2] = { 0.0, 0.0 };
   bool KeptPrefilter = false;
@@ -220,12 +221,16 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
       measured->GetChordSize(),
       std::min(measured->GetDeviationSize(), std::max(job.DeviationLimit, 1)) };
     const double ranges[2] = { measured->GetChordRange(), measured->GetDeviationRange() };
-    if (provisional && std::equal(sizes, sizes + 3, job.KeptSizes) &&
+    if ((provisional || job.Drawn) && std::equal(sizes, sizes + 3, job.KeptSizes) &&
       ranges[0] == job.KeptRanges[0] && ranges[1] == job.KeptRanges[1] &&
       measured->GetPrefilter() == job.KeptPrefilter)
     {
       same = true;
-      return provisional;
+      if (provisional)
+      {
+        return provisional;
+      }
+      return vtkSmartPointer<vtkSecondOrderPreIntegrationTable>(measured);
     }
     return this->Build(job, sizes, ranges, measured->GetPrefilter(), stopped);
   }
@@ -301,7 +306,8 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
   double sampleDistance,
   int deviationLimit,
   bool buildEntries,
-  bool provisional)
+  bool provisional,
+  bool drawn)
 {
   if (!volume || !scalars || !table || (order != 1 && order != 2))
   {
@@ -323,7 +329,8 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
     I.ResultProvisional = false;
     I.ResultSame = false;
   }
-  job->Provisional = provisional && buildEntries;
+  job->Provisional = provisional && buildEntries && !drawn;
+  job->Drawn = drawn;
   job->KeptSizes[0] = table->GetTableSize();
   job->KeptSizes[1] = table->GetChordSize();
   job->KeptSizes[2] = std::min(table->GetDeviationSize(), std::max(deviationLimit, 1));

@@ -76,8 +76,11 @@ public:
    * at this order (1 or 2) and sample distance, its deviation axis at most deviationLimit
    * entries, built on the CPU when buildEntries. With provisional (and buildEntries), a table
    * of table's present sizes, ranges and prefilter is built first and given as a provisional
-   * result (IsProvisional). Stops earlier requests. Returns the request's number (positive),
-   * or 0 after an error (bad arguments, or the worker could not start).
+   * result (IsProvisional). With drawn, the caller draws table's present sizes itself (it
+   * builds them for the change): when the measurement finds them, the result is a
+   * confirmation (IsConfirmation) and nothing is built. Stops earlier requests. Returns the
+   * request's number (positive), or 0 after an error (bad arguments, or the worker could not
+   * start).
    */
   vtkIdType Request(vtkImageData* volume,
     vtkDataArray* scalars,
@@ -86,7 +89,8 @@ public:
     double sampleDistance,
     int deviationLimit,
     bool buildEntries,
-    bool provisional = false);
+    bool provisional = false,
+    bool drawn = false);
 
   /**
    * Stop the current request and drop any result.

@@ -1138,25 +1138,24 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     }
     return chosen;
   };
-  int halves = 2;
   this->ChosenCandidate = leastMemory(2);
   if (this->ChosenCandidate < 0)
   {
     // The halves' bests differ by more than their rays can resolve (heavy tails), so that no
     // candidate, often not even the best, is good on both: good on all the rays and one half.
-    halves = 1;
     this->ChosenCandidate = leastMemory(1);
   }
-  // The sizes in use stay while they are as good and cost at most twice the least memory:
-  // near-equal candidates otherwise trade places from edit to edit (the rays cannot tell
-  // them apart), and each trade rebuilds the table and outdates a drag's provisional one.
+  // The sizes in use stay while they are good on all the rays and on one half at least (the
+  // fallback's standard) and cost at most twice the least memory: near-equal candidates
+  // otherwise trade places from edit to edit (the rays cannot tell them apart, and the halves
+  // even less), and each trade rebuilds the table and outdates a drag's provisional one.
   for (int i = 0; i < static_cast<int>(I.Candidates.size()) && this->ChosenCandidate >= 0; ++i)
   {
     const Candidate& c = I.Candidates[i];
     if (i != this->ChosenCandidate && c.Sizes[0] == table->GetTableSize() &&
       c.Sizes[1] == table->GetChordSize() && c.Sizes[2] == table->GetDeviationSize() &&
       c.Ranges[0] == table->GetChordRange() && c.Ranges[1] == table->GetDeviationRange() &&
-      c.Prefilter == table->GetPrefilter() && goodAt(i, halves) &&
+      c.Prefilter == table->GetPrefilter() && goodAt(i, 1) &&
       c.Memory <= 2.0 * I.Candidates[this->ChosenCandidate].Memory)
     {
       this->ChosenCandidate = i;

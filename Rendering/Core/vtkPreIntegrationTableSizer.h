@@ -37,9 +37,9 @@
  *      should not be chosen. When the halves' bests differ by more than their rays resolve,
  *      so that no candidate is good on both, it keeps the least memory good on all the rays
  *      and one half (else the best). The table's own sizes (an earlier Choose()'s) stay when
- *      they are among those good candidates and take at most twice the least memory:
- *      near-equal candidates would otherwise trade places from edit to edit, each trade
- *      rebuilding the table.
+ *      they are good on all the rays and one half at least and take at most twice the least
+ *      memory: near-equal candidates would otherwise trade places from edit to edit, each
+ *      trade rebuilding the table.
  * Every candidate within MaximumMemory (at BytesPerEntry) and MaximumAxisSize is measured (on
  * the screening rays at least), centre size by centre size from the coarsest: a coarse axis
  * can measure better than a finer one on one axis and not another, so a search that skips

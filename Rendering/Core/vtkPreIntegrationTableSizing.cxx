@@ -204,6 +204,21 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     table->SetDeviationRange(last[4]);
     table->SetPrefilter(last[5] != 0.0);
   }
+  // Those sizes are drawn at once when their rebuild for the change integrates no more entries
+  // than an interim table, or is incremental and takes at most ImmediateBuildTime at the
+  // table's last build rate (a narrow edit of the transfer functions, the table last built at
+  // them): the frame then draws the provisional table itself.
+  bool immediate = false;
+  if (measured && this->ProvisionalTables && buildEntries)
+  {
+    const double rebuild = static_cast<double>(table->GetNumberOfEntriesToBuild());
+    const double rate = table->GetLastBuildEntries() > 0
+      ? table->GetLastBuildTime() / static_cast<double>(table->GetLastBuildEntries())
+      : VTK_DOUBLE_MAX;
+    immediate = rebuild <= this->InterimEntries ||
+      (rebuild < static_cast<double>(table->GetNumberOfEntries()) &&
+        rebuild * rate <= this->ImmediateBuildTime);
+  }
   this->Request = this->Refiner->Request(volume,
     scalars,
     table,
@@ -211,7 +226,8 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     sampleDistance,
     deviationLimit,
     buildEntries,
-    measured && this->ProvisionalTables);
+    measured && this->ProvisionalTables && !immediate,
+    immediate);
   if (this->Request <= 0)
   {
     this->Key.clear();
@@ -219,6 +235,11 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
   }
   this->RequestTable = table;
   this->Interim = true;
+  if (immediate)
+  {
+    ++this->NumberOfProvisionalTables;
+    return true;
+  }
   ++this->NumberOfInterimTables;
   this->SetInterimSizes(table, order, deviationLimit);
   return true;
@@ -446,6 +467,7 @@ void vtkPreIntegrationTableSizing::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
   os << indent << "InterimEntries: " << this->InterimEntries << "\n";
+  os << indent << "ImmediateBuildTime: " << this->ImmediateBuildTime << "\n";
   os << indent << "NumberOfInterimTables: " << this->NumberOfInterimTables << "\n";
   os << indent << "ProvisionalTables: " << this->ProvisionalTables << "\n";
   os << indent << "NumberOfProvisionalTables: " << this->NumberOfProvisionalTables << "\n";

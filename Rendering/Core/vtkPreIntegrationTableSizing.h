@@ -16,16 +16,19 @@
  *     the last measured sizes and ranges), else TableSize 129 (first order; 65 for second
  *     order) over every chord and deviation; either is cut to at most InterimEntries entries
  *     by halving its axes, so that it builds in a few milliseconds. With ProvisionalTables,
- *     a table measured before is first built at its full measured sizes in the worker, and
- *     given as a provisional table before the measurement ends (a small edit most often
- *     measures the same sizes again). IsRefinementReady() tells when the provisional or the
- *     measured table waits, and the next Update() with the same key gives it to the table
- *     (sizes and entries). A measurement that confirms the provisional table already drawn
- *     ends the refinement by itself (IsRefining() and IsRefinementReady() turn false): a
- *     frame would draw the same image. A failed measurement is reported once and the
- *     interim table stays.
- * GetSizer() holds the sizer settings both ways use, and the statistics of the last measured
- * sizes in use (after a background measurement, copied from the worker's sizer).
+ *     a table measured before is drawn at its full measured sizes as a provisional table (a
+ *     small edit most often measures the same sizes again): at once when their rebuild for
+ *     the change integrates at most InterimEntries entries on the CPU
+ *     (vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild: a narrow edit of the
+ *     transfer functions, the table last built at those sizes) or, incremental, is predicted
+ *     at the table's last build rate to take at most ImmediateBuildTime; else built in the
+ *     worker and given before the measurement ends. IsRefinementReady() tells when the provisional
+ * or the measured table waits, and the next Update() with the same key gives it to the table (sizes
+ * and entries). A measurement that confirms the provisional table already drawn ends the refinement
+ * by itself (IsRefining() and IsRefinementReady() turn false): a frame would draw the same image. A
+ * failed measurement is reported once and the interim table stays. GetSizer() holds the sizer
+ * settings both ways use, and the statistics of the last measured sizes in use (after a background
+ * measurement, copied from the worker's sizer).
  *
  * @sa vtkPreIntegrationTableSizer vtkPreIntegrationTableRefiner
  */
@@ -63,9 +66,9 @@ public:
 
   ///@{
   /**
-   * With RefineInBackground, build a table measured before at its full measured sizes in the
-   * worker first, and give it before the measurement ends (see the class description).
-   * Initial value is true.
+   * With RefineInBackground, draw a table measured before at its full measured sizes before
+   * the measurement ends: at once when its rebuild is cheap, else built in the worker first
+   * (see the class description). Initial value is true.
    */
   vtkSetMacro(ProvisionalTables, bool);
   vtkGetMacro(ProvisionalTables, bool);
@@ -74,11 +77,22 @@ public:
 
   ///@{
   /**
-   * The most entries of an interim table (every moment layer counted once). Initial value
-   * is 131072.
+   * The most entries of an interim table (every moment layer counted once), and of the
+   * rebuild of a provisional table drawn at once. Initial value is 131072.
    */
   vtkSetClampMacro(InterimEntries, double, 1024.0, 1e9);
   vtkGetMacro(InterimEntries, double);
+  ///@}
+
+  ///@{
+  /**
+   * The longest incremental rebuild (seconds, predicted from the table's last build: its time
+   * over its entries) of a provisional table drawn at once after a change; 0 leaves only the
+   * InterimEntries rule. A fraction of a frame, so that the frame after the change stays close
+   * to a camera move's. Initial value is 0.05.
+   */
+  vtkSetClampMacro(ImmediateBuildTime, double, 0.0, 10.0);
+  vtkGetMacro(ImmediateBuildTime, double);
   ///@}
 
   /**
@@ -211,6 +225,7 @@ protected:
 
   bool RefineInBackground = false;
   double InterimEntries = 131072.0;
+  double ImmediateBuildTime = 0.05;
   int NumberOfInterimTables = 0;
   bool ProvisionalTables = true;
   int NumberOfProvisionalTables = 0;

@@ -57,6 +57,7 @@ bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built
   this->BuiltLayers = this->GetNumberOfLayers();
   this->BuiltEntries = this->GetNumberOfEntries();
   this->BuiltValid = this->ComputeEntries;
+  this->LastBuildEntries = other->LastBuildEntries;
   other->BuiltValid = false;
   return true;
 }
@@ -241,6 +242,74 @@ vtkSecondOrderPreIntegrationTableKernel vtkSecondOrderPreIntegrationTable::GetKe
 }
 
 //------------------------------------------------------------------------------
+bool vtkSecondOrderPreIntegrationTable::ChangedSamples(
+  const vtkSecondOrderPreIntegrationTableKernel& kernel,
+  int& first,
+  int& last) const
+{
+  if (!kernel.SameAs(this->BuiltKernel) || this->GetNumberOfLayers() != this->BuiltLayers ||
+    this->GetNumberOfEntries() != this->BuiltEntries ||
+    this->BuiltIterationTable->GetNumberOfTuples() != this->IterationSamples)
+  {
+    return false;
+  }
+  const float* before = this->BuiltIterationTable->GetPointer(0);
+  const float* after = this->IterationTable->GetPointer(0);
+  first = this->IterationSamples;
+  last = -1;
+  for (int q = 0; q < this->IterationSamples; ++q)
+  {
+    if (!std::equal(before + 4 * q, before + 4 * q + 4, after + 4 * q))
+    {
+      first = std::min(first, q);
+      last = q;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild()
+{
+  const vtkIdType entries = this->GetNumberOfEntries();
+  if (!this->ComputeEntries || !this->BuiltValid || !this->Sampler->Prepare())
+  {
+    return entries;
+  }
+  this->BuildIterationTable();
+  const vtkSecondOrderPreIntegrationTableKernel kernel = this->GetKernel();
+  int first, last;
+  if (!this->ChangedSamples(kernel, first, last))
+  {
+    return entries;
+  }
+  // As BuildTable() walks them: chord j and its mirror share a path.
+  const int nc = this->TableSize, nb = this->ChordSize, nd = this->DeviationSize;
+  std::atomic<vtkIdType> count{ 0 };
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(nd) * nc,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      vtkIdType local = 0;
+      for (vtkIdType row = begin; row < end; ++row)
+      {
+        const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
+        for (int j = 0; j <= (nb - 1) / 2; ++j)
+        {
+          int low, high;
+          kernel.SampleRange(i, j, k, low, high);
+          if (high >= first && low <= last)
+          {
+            local += nb - 1 - j != j ? 2 : 1;
+          }
+        }
+      }
+      count += local;
+    });
+  return count;
+}
+
+//------------------------------------------------------------------------------
 void vtkSecondOrderPreIntegrationTable::BuildTable()
 {
   this->BuildIterationTable();
@@ -257,24 +326,7 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   // integrated: [changedFirst, changedLast] are the samples that differ.
   int changedFirst = 0, changedLast = this->IterationSamples - 1;
   const vtkIdType entries = this->GetNumberOfEntries();
-  const bool incremental = wasValid && kernel.SameAs(this->BuiltKernel) &&
-    this->GetNumberOfLayers() == this->BuiltLayers && entries == this->BuiltEntries &&
-    this->BuiltIterationTable->GetNumberOfTuples() == this->IterationSamples;
-  if (incremental)
-  {
-    const float* before = this->BuiltIterationTable->GetPointer(0);
-    const float* after = this->IterationTable->GetPointer(0);
-    changedFirst = this->IterationSamples;
-    changedLast = -1;
-    for (int q = 0; q < this->IterationSamples; ++q)
-    {
-      if (!std::equal(before + 4 * q, before + 4 * q + 4, after + 4 * q))
-      {
-        changedFirst = std::min(changedFirst, q);
-        changedLast = q;
-      }
-    }
-  }
+  const bool incremental = wasValid && this->ChangedSamples(kernel, changedFirst, changedLast);
   // Nothing changed at all: the entries, the iteration table and its empty runs (built from
   // the same samples) are the last build's.
   this->EntriesUnchanged = incremental && changedLast < changedFirst;

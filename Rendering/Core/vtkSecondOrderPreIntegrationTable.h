@@ -218,6 +218,15 @@ public:
    */
   vtkGetMacro(LastBuildEntries, vtkIdType);
 
+  /**
+   * Entries the next Update() would integrate on the CPU: those that read a changed
+   * transfer-function sample after an edit that left everything else alone since the last
+   * build, else all of them (also when ComputeEntries is off: another builder integrates them
+   * all). Builds the iteration table for the current settings (the sampler must be prepared)
+   * and changes nothing else.
+   */
+  vtkIdType GetNumberOfEntriesToBuild();
+
 #ifndef __VTK_WRAP__
   /**
    * The integration of single entries, for the current settings and iteration table (after
@@ -237,6 +246,15 @@ protected:
   {
     this->BuiltValid = false;
   }
+
+#ifndef __VTK_WRAP__
+  // Whether the current settings and iteration table differ from the last build's only in
+  // samples (the same kernel, layers and entries): then [first, last] are the samples that
+  // differ (last < first when none).
+  bool ChangedSamples(const vtkSecondOrderPreIntegrationTableKernel& kernel,
+    int& first,
+    int& last) const;
+#endif
 
   // The prefilter spreads opacity by half a centre spacing.
   double GetEmptyRunMargin() const override;

@@ -48,10 +48,9 @@ bool vtkVolumeBrickLayout::Update()
     }
     if (points(a) > this->MaximumBrickPoints)
     {
-      vtkErrorMacro("A brick of one cell with " << this->GhostPoints
-                                                << " ghost points a side needs " << points(a)
-                                                << " points along an axis, more than "
-                                                << this->MaximumBrickPoints << ".");
+      vtkErrorMacro("A brick of one cell with "
+        << this->GhostPoints << " ghost points a side needs " << points(a)
+        << " points along an axis, more than " << this->MaximumBrickPoints << ".");
       return false;
     }
   }
@@ -117,7 +116,8 @@ void vtkVolumeBrickLayout::GetBrickCells(int b, int cells[6]) const
 {
   int pieces[3];
   this->GetNumberOfPieces(pieces);
-  int index[3] = { b % std::max(pieces[0], 1), (b / std::max(pieces[0], 1)) % std::max(pieces[1], 1),
+  int index[3] = { b % std::max(pieces[0], 1),
+    (b / std::max(pieces[0], 1)) % std::max(pieces[1], 1),
     b / std::max(pieces[0] * pieces[1], 1) };
   for (int a = 0; a < 3; ++a)
   {
@@ -151,8 +151,9 @@ void vtkVolumeBrickLayout::GetBrickSize(int b, int size[3]) const
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeBrickLayout::GetBackToFront(
-  const double point[3], bool parallel, vtkIdList* order) const
+void vtkVolumeBrickLayout::GetBackToFront(const double point[3],
+  bool parallel,
+  vtkIdList* order) const
 {
   order->Reset();
   const int bricks = this->GetNumberOfBricks();
@@ -172,9 +173,10 @@ void vtkVolumeBrickLayout::GetBackToFront(
     }
     else
     {
-      slab = static_cast<int>(
-        std::upper_bound(this->Cuts[a].begin(), this->Cuts[a].end(), point[a]) -
-        this->Cuts[a].begin()) - 1;
+      slab =
+        static_cast<int>(std::upper_bound(this->Cuts[a].begin(), this->Cuts[a].end(), point[a]) -
+          this->Cuts[a].begin()) -
+        1;
     }
     for (int p = 0; p < pieces[a]; ++p)
     {

@@ -91,7 +91,8 @@ c.check(re.search(r"chosen by the sizer: \d+x\d+x\d+", process.stdout) is not No
         and len(errors) >= 4 and all(0.0 < e < 1.0 for e in errors),
         "table sweep prints the chosen table and the errors of the exact model and the sweep")
 # Answer first, refine after, in an interactor's event loop: a drag of timer edits, each drawn
-# with an interim table, then the refined frame the mapper's event asks for.
+# at once, then the refined frame the mapper's event asks for (or the measurement's
+# confirmation of the table drawn).
 process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
                                                        "interactive_refinement.py"),
                           "--offscreen", "--points", "64", "--edits", "10"],
@@ -99,9 +100,10 @@ process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python
 print("interactive refinement", process.stdout.strip())
 c.check(process.returncode == 0, "interactive refinement exits 0 (%s)" % process.stderr.strip())
 c.check(re.search(r"drag: 10 edits drawn at once, .*refining: True", process.stdout) is not None,
-        "interactive refinement: the last edit of the drag is drawn with an interim table")
+        "interactive refinement: the last edit of the drag is drawn before its measurement")
 c.check(re.search(r"refined frame [0-9.]+ s after the last edit", process.stdout) is not None,
-        "interactive refinement: TablesRefinedEvent brings the refined frame")
+        "interactive refinement: TablesRefinedEvent brings the refined frame, or the "
+        "measurement confirms the table drawn")
 # The same drag with adaptive sampling: the oracle answers first and refines after.
 process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
                                                        "interactive_refinement.py"),

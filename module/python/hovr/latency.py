@@ -247,6 +247,10 @@ def measure(method, scene, step, steps, changes, reference=None, log=print):
             if change == "opacity":
                 first = view.image()
             first_ms, refine_ms[change], early = view.refine(last, capture=change == "opacity")
+            if first_ms is None and refine_ms[change] is not None:
+                # The refinement ended without asking for a frame: the frame after the change
+                # drew the provisional table, which the measurement confirmed.
+                first_ms = times[-1]
             refine_ms[change + "-first"] = first_ms
             if change == "opacity":
                 refined = view.image()

@@ -24,6 +24,8 @@ orders:
   before the measurement ends, then the measured one; when the measurement finds the same
   sizes, the final result is a confirmation (IsConfirmation) that changes nothing; without
   taking the provisional one, only the measured one waits; the result is the same table either way as a plain request's;
+- vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild predicts the entries the next
+  build integrates (all at first, fewer after an opacity edit, none when nothing changed);
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
   check).
 """
@@ -305,6 +307,32 @@ for order in (1, 2):
             numpy.array_equal(entries(again), entries(expected)),
             "%s: the same sizes measured: the provisional table stays" % name)
     del refiner
+
+# GetNumberOfEntriesToBuild predicts the entries the next build integrates: all of them before
+# a first build and after a change of sizes, those reaching the changed samples after an
+# opacity edit (fewer than all), none when nothing changed.
+for order in (1, 2):
+    edited = make_property()
+    table = make_table(edited, order)
+    table.SetTableSize(129)
+    table.SetChordSize(33)
+    table.SetDeviationSize(9 if order == 2 else 1)
+    predicted = [table.GetNumberOfEntriesToBuild()]
+    table.Update()
+    built = [table.GetLastBuildEntries()]
+    function = edited.GetScalarOpacity()
+    node = [0.0] * 4
+    function.GetNodeValue(function.GetSize() // 2, node)
+    node[1] = 0.5 * node[1] + 0.1
+    function.SetNodeValue(function.GetSize() // 2, node)
+    predicted.append(table.GetNumberOfEntriesToBuild())
+    table.Update()
+    built.append(table.GetLastBuildEntries())
+    predicted.append(table.GetNumberOfEntriesToBuild())
+    total = table.GetNumberOfEntries()
+    c.check(predicted[:2] == built and predicted[0] == total and 0 < predicted[1] < total and
+            predicted[2] == 0, "order %d: the entries to build predicted %s, built %s of %d" % (
+                order, predicted, built, total))
 
 # A refiner deleted while it measures: the worker stops at its next check.
 big = hovr.vtkMarschnerLobbSource()
