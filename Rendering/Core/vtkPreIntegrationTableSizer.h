@@ -188,8 +188,8 @@ public:
    * measured again integrates only the entries whose paths read a changed sample (a narrow
    * edit changes few), the others keep their values bit for bit. They take up to 17 bytes
    * per entry of each grid, reserved but touched only where rays read (each grid is at most
-   * twice MaximumMemory's entries). Off frees them at the end of each Choose(). Initial
-   * value is true.
+   * twice MaximumMemory's entries). Off frees them at the end of each centre size. Initial
+   * value is false.
    */
   vtkSetMacro(KeepEntries, bool);
   vtkGetMacro(KeepEntries, bool);
@@ -351,7 +351,7 @@ protected:
   bool MeasureExactModel = false;
   bool MeasurePrefilter = false;
   bool StopAtConvergence = true;
-  bool KeepEntries = true;
+  bool KeepEntries = false;
   double ScreeningFraction = 0.25;
   int NumberOfLevels = 0;
   double ReferenceTolerance = 1.0 / 64.0;

@@ -243,6 +243,7 @@ for case in CASE_NUMBERS:
     step = float(rng.choice([0.25, 0.5, 1.0, 2.0, 4.0]))
     table = hovr.vtkSecondOrderPreIntegrationTable()
     sizer = hovr.vtkPreIntegrationTableSizer()
+    sizer.SetKeepEntries(True)  # the edit check below measures with the kept entries
     judge = hovr.vtkPreIntegrationTableSizer()
     judge.SetSeed(10000 + seed)
     judge.SetNumberOfRays(JUDGE_RAYS)
