@@ -807,8 +807,9 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     I.Candidates.push_back(c);
     return static_cast<int>(I.Candidates.size()) - 1;
   };
-  // The last Choose()'s shared entries: a store of the same grid takes the new transfer
-  // functions and keeps the entries that read no changed sample; the others are freed.
+  // The last Choose()'s shared entries (its last centre size's): a store of the same grid
+  // takes the new transfer functions and keeps the entries that read no changed sample; the
+  // others are freed.
   std::vector<std::unique_ptr<vtkPreIntegrationCandidateEntries>> last = std::move(I.Stores);
   I.Stores.clear();
   // The store of a centre size's candidates (of one prefilter): the finest of their spacings
@@ -1057,8 +1058,14 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         c.Error = rest < 0.0 ? -1.0 : std::sqrt(sum / std::max<size_t>(all, 1));
       }
     }
+    // Only the last centre size's stores are kept (the largest, where most entries are
+    // integrated): a Choose() holds no more stores at once than one centre size's.
     for (int p = 0; p < 2 && this->KeepEntries; ++p)
     {
+      if (p == 0)
+      {
+        I.Stores.clear();
+      }
       if (shared[p])
       {
         I.Stores.push_back(std::move(shared[p]));

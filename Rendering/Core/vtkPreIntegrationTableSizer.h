@@ -183,13 +183,14 @@ public:
 
   ///@{
   /**
-   * Keep the entries the candidates of each centre size shared (see class documentation)
-   * from one Choose() to the next: after an edit of the transfer functions, a candidate grid
-   * measured again integrates only the entries whose paths read a changed sample (a narrow
-   * edit changes few), the others keep their values bit for bit. They take up to 17 bytes
-   * per entry of each grid, reserved but touched only where rays read (each grid is at most
-   * twice MaximumMemory's entries). Off frees them at the end of each centre size. Initial
-   * value is false.
+   * Keep the entries the candidates of the last centre size measured shared (see class
+   * documentation; the largest, where most entries are integrated) from one Choose() to the
+   * next: after an edit of the transfer functions, that grid measured again integrates only
+   * the entries whose paths read a changed sample (a narrow edit changes few), the others
+   * keep their values bit for bit. They take up to 17 bytes per entry of the grid (at most
+   * twice MaximumMemory's entries), reserved but touched only where rays read, held between
+   * measurements; a Choose() holds them beside the centre size it measures until it reaches
+   * their grid. Initial value is true.
    */
   vtkSetMacro(KeepEntries, bool);
   vtkGetMacro(KeepEntries, bool);
@@ -351,7 +352,7 @@ protected:
   bool MeasureExactModel = false;
   bool MeasurePrefilter = false;
   bool StopAtConvergence = true;
-  bool KeepEntries = false;
+  bool KeepEntries = true;
   double ScreeningFraction = 0.25;
   int NumberOfLevels = 0;
   double ReferenceTolerance = 1.0 / 64.0;
