@@ -126,15 +126,9 @@ bool vtkPreIntegrationCandidateEntries::Update(vtkSecondOrderPreIntegrationTable
     this->States.reset();
     return false;
   }
-  int first = kernel.Samples, last = -1;
-  for (int q = 0; q < kernel.Samples; ++q)
-  {
-    if (!std::equal(before.begin() + 4 * q, before.begin() + 4 * q + 4, this->Samples + 4 * q))
-    {
-      first = std::min(first, q);
-      last = q;
-    }
-  }
+  int first, last;
+  vtkSecondOrderPreIntegrationTableKernel::ChangedSamples(
+    before.data(), this->Samples, kernel.Samples, first, last);
   if (last < first)
   {
     return true;
@@ -156,9 +150,7 @@ bool vtkPreIntegrationCandidateEntries::Update(vtkSecondOrderPreIntegrationTable
         const int i = static_cast<int>(index % nc);
         const int j = static_cast<int>((index / nc) % nb);
         const int k = static_cast<int>(index / (static_cast<vtkIdType>(nc) * nb));
-        int low, high;
-        kernel.SampleRange(i, std::min(j, nb - 1 - j), k, low, high); // as Ensure() integrates
-        if (high >= first && low <= last)
+        if (kernel.Reads(i, std::min(j, nb - 1 - j), k, first, last)) // as Ensure() integrates
         {
           states[index].store(0, std::memory_order_relaxed);
         }

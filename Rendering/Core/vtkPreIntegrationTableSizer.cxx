@@ -130,8 +130,8 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredChordRange = 0.0;
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
-  // The entries the candidates of each centre size shared in the last Choose(), kept for the
-  // next one (KeepEntries).
+  // The entries the candidates of the last centre size shared in the last Choose(), kept for
+  // the next one (KeepEntries).
   std::vector<std::unique_ptr<vtkPreIntegrationCandidateEntries>> Stores;
   std::atomic<bool> AbortRequested{ false };
   std::atomic<double> Progress{ 1.0 };
@@ -153,13 +153,8 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   }
   bool Aborted = false; // the last Prepare() or Choose() stopped on AbortRequested
 
-  // Each ray's squared error against the reference (mean over the four channels) into
-  // perRay, and the RMSE over all rays.
-  double Score(const std::vector<double>& rgba, std::vector<double>& perRay) const
-  {
-    return this->Score(rgba, perRay, 0, this->Rays.size());
-  }
-  // The same for rays [begin, end) (rgba holding theirs), the others of perRay set to 0.
+  // The squared errors against the reference (mean over the four channels) of rays [begin,
+  // end) into perRay (rgba holding theirs; the other rays' set to 0), and their RMSE.
   double Score(const std::vector<double>& rgba,
     std::vector<double>& perRay,
     size_t begin,

@@ -253,18 +253,11 @@ bool vtkSecondOrderPreIntegrationTable::ChangedSamples(
   {
     return false;
   }
-  const float* before = this->BuiltIterationTable->GetPointer(0);
-  const float* after = this->IterationTable->GetPointer(0);
-  first = this->IterationSamples;
-  last = -1;
-  for (int q = 0; q < this->IterationSamples; ++q)
-  {
-    if (!std::equal(before + 4 * q, before + 4 * q + 4, after + 4 * q))
-    {
-      first = std::min(first, q);
-      last = q;
-    }
-  }
+  vtkSecondOrderPreIntegrationTableKernel::ChangedSamples(this->BuiltIterationTable->GetPointer(0),
+    this->IterationTable->GetPointer(0),
+    this->IterationSamples,
+    first,
+    last);
   return true;
 }
 
@@ -296,9 +289,7 @@ vtkIdType vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild()
         const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
         for (int j = 0; j <= (nb - 1) / 2; ++j)
         {
-          int low, high;
-          kernel.SampleRange(i, j, k, low, high);
-          if (high >= first && low <= last)
+          if (kernel.Reads(i, j, k, first, last))
           {
             local += nb - 1 - j != j ? 2 : 1;
           }
@@ -357,14 +348,9 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
         const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
         for (int j = 0; j <= (nb - 1) / 2; ++j)
         {
-          if (incremental)
+          if (incremental && !kernel.Reads(i, j, k, changedFirst, changedLast))
           {
-            int first, last;
-            kernel.SampleRange(i, j, k, first, last);
-            if (last < changedFirst || first > changedLast)
-            {
-              continue; // reads no changed sample: its value stands
-            }
+            continue; // reads no changed sample: its value stands
           }
           const int mirror = nb - 1 - j;
           count += mirror != j ? 2 : 1;

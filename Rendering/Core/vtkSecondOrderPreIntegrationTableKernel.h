@@ -109,6 +109,28 @@ struct vtkSecondOrderPreIntegrationTableKernel
     last = std::min(static_cast<int>(hi) + 1, this->Samples - 1);
   }
 
+  // Whether entry (i, j, k) reads any of the iteration-table samples [first, last].
+  bool Reads(int i, int j, int k, int first, int last) const
+  {
+    int low, high;
+    this->SampleRange(i, j, k, low, high);
+    return high >= first && low <= last;
+  }
+  // The samples (4 floats each) where two iteration tables of n samples differ, [first,
+  // last] (last < first when none).
+  static void ChangedSamples(const float* before, const float* after, int n, int& first, int& last)
+  {
+    first = n;
+    last = -1;
+    for (int q = 0; q < n; ++q)
+    {
+      if (!std::equal(before + 4 * q, before + 4 * q + 4, after + 4 * q))
+      {
+        first = std::min(first, q);
+        last = q;
+      }
+    }
+  }
   // Whether two kernels integrate every entry alike (the same axes, steps and length).
   bool SameAs(const vtkSecondOrderPreIntegrationTableKernel& other) const
   {
