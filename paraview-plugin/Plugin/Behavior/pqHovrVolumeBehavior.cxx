@@ -251,11 +251,7 @@ void pqHovrVolumeBehavior::onViewRendered()
   // provisional table is followed by the measured one).
   if (view && this->Finishing.removeAll(view) > 0 && state == 0)
   {
-    ++this->Refinements;
-    if (this->Status)
-    {
-      this->Status->setToolTip(tr("hovr: %1 refinements completed").arg(this->Refinements));
-    }
+    this->CountRefinement();
   }
   if (!view || this->Refining.contains(view) || state == 0)
   {
@@ -267,6 +263,16 @@ void pqHovrVolumeBehavior::onViewRendered()
   if (!this->Poll.isActive())
   {
     this->Poll.start();
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqHovrVolumeBehavior::CountRefinement()
+{
+  ++this->Refinements;
+  if (this->Status)
+  {
+    this->Status->setToolTip(tr("hovr: %1 refinements completed").arg(this->Refinements));
   }
 }
 
@@ -305,7 +311,13 @@ void pqHovrVolumeBehavior::onPoll()
       this->Finishing.push_back(view);
       view->render();
     }
-    else if (state == 1)
+    else if (state == 0)
+    {
+      // Ended without a render: the measurement confirmed the table the view draws.
+      this->ShowStatus(tr("hovr: refined"));
+      this->CountRefinement();
+    }
+    else
     {
       still.push_back(view);
       const int percent = static_cast<int>(100.0 * RefinementProgress(view));

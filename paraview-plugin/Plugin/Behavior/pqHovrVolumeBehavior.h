@@ -81,6 +81,8 @@ private:
   std::map<pqRepresentation*, vtkSmartPointer<vtkSMProxy>> Statuses;
   // Shows what the refinement does in the status bar (made on first use).
   void ShowStatus(const QString& text);
+  // One more refinement completed, in the status label's tooltip.
+  void CountRefinement();
   QVector<QPointer<pqView>> Refining;
   QTimer Poll;
   QPointer<QLabel> Status;
