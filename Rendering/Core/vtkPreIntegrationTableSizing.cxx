@@ -205,7 +205,7 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     table->SetPrefilter(last[5] != 0.0);
   }
   // Those sizes are drawn at once when their rebuild for the change integrates no more entries
-  // than an interim table, or is incremental and takes at most ImmediateBuildTime at the
+  // than an interim table, or is incremental and takes at most a fraction of a frame at the
   // table's last build rate (a narrow edit of the transfer functions, the table last built at
   // them): the frame then draws the provisional table itself.
   bool immediate = false;
@@ -215,9 +215,10 @@ bool vtkPreIntegrationTableSizing::Update(const std::vector<double>& key,
     const double rate = table->GetLastBuildEntries() > 0
       ? table->GetLastBuildTime() / static_cast<double>(table->GetLastBuildEntries())
       : VTK_DOUBLE_MAX;
+    const double budget = this->FrameTime > 0.0 ? this->ImmediateBuildFraction * this->FrameTime
+                                                : this->ImmediateBuildTime;
     immediate = rebuild <= this->InterimEntries ||
-      (rebuild < static_cast<double>(table->GetNumberOfEntries()) &&
-        rebuild * rate <= this->ImmediateBuildTime);
+      (rebuild < static_cast<double>(table->GetNumberOfEntries()) && rebuild * rate <= budget);
   }
   this->Request = this->Refiner->Request(volume,
     scalars,
@@ -468,6 +469,8 @@ void vtkPreIntegrationTableSizing::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
   os << indent << "InterimEntries: " << this->InterimEntries << "\n";
   os << indent << "ImmediateBuildTime: " << this->ImmediateBuildTime << "\n";
+  os << indent << "ImmediateBuildFraction: " << this->ImmediateBuildFraction << "\n";
+  os << indent << "FrameTime: " << this->FrameTime << "\n";
   os << indent << "NumberOfInterimTables: " << this->NumberOfInterimTables << "\n";
   os << indent << "ProvisionalTables: " << this->ProvisionalTables << "\n";
   os << indent << "NumberOfProvisionalTables: " << this->NumberOfProvisionalTables << "\n";

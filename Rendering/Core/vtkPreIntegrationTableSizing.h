@@ -21,8 +21,9 @@
  *     the change integrates at most InterimEntries entries on the CPU
  *     (vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild: a narrow edit of the
  *     transfer functions, the table last built at those sizes) or, incremental, is predicted
- *     at the table's last build rate to take at most ImmediateBuildTime; else built in the
- *     worker and given before the measurement ends. IsRefinementReady() tells when the provisional
+ *     at the table's last build rate to take at most ImmediateBuildFraction of FrameTime (or
+ *     ImmediateBuildTime while the frame time is unknown); else built in the worker and given
+ *     before the measurement ends. IsRefinementReady() tells when the provisional
  * or the measured table waits, and the next Update() with the same key gives it to the table (sizes
  * and entries). A measurement that confirms the provisional table already drawn ends the refinement
  * by itself (IsRefining() and IsRefinementReady() turn false): a frame would draw the same image. A
@@ -86,11 +87,24 @@ public:
 
   ///@{
   /**
-   * The longest incremental rebuild (seconds, predicted from the table's last build: its time
-   * over its entries) of a provisional table drawn at once after a change; 0 leaves only the
-   * InterimEntries rule. A fraction of a frame, so that the frame after the change stays close
-   * to a camera move's. Initial value is 0.05.
+   * The longest incremental rebuild (predicted from the table's last build: its time over its
+   * entries) of a provisional table drawn at once after a change, as a fraction of FrameTime,
+   * so that the frame after the change stays close to a camera move's; 0 leaves only the
+   * InterimEntries rule. Initial value is 0.25.
    */
+  vtkSetClampMacro(ImmediateBuildFraction, double, 0.0, 10.0);
+  vtkGetMacro(ImmediateBuildFraction, double);
+  ///@}
+
+  ///@{
+  /**
+   * The renderer's time for a frame of the table's volume (seconds; its last draw, which the
+   * renderer sets before each Update()), and the longest incremental rebuild of a
+   * provisional table drawn at once while it is unknown (0 or less). Initial values are 0 and
+   * 0.05.
+   */
+  vtkSetMacro(FrameTime, double);
+  vtkGetMacro(FrameTime, double);
   vtkSetClampMacro(ImmediateBuildTime, double, 0.0, 10.0);
   vtkGetMacro(ImmediateBuildTime, double);
   ///@}
@@ -226,6 +240,8 @@ protected:
   bool RefineInBackground = false;
   double InterimEntries = 131072.0;
   double ImmediateBuildTime = 0.05;
+  double ImmediateBuildFraction = 0.25;
+  double FrameTime = 0.0;
   int NumberOfInterimTables = 0;
   bool ProvisionalTables = true;
   int NumberOfProvisionalTables = 0;

@@ -13,6 +13,7 @@
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderPass.h"
+#include "vtkOpenGLRenderTimer.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLVolumeBricks.h"
 #include "vtkPiecewiseFunction.h"
@@ -88,6 +89,7 @@ vtkStandardNewMacro(vtkGPURayCastShaderHook);
 //------------------------------------------------------------------------------
 vtkExtensibleGPUVolumeRayCastMapper::vtkExtensibleGPUVolumeRayCastMapper()
   : Hook(vtkGPURayCastShaderHook::New())
+  , DrawTimer(new vtkOpenGLRenderTimer)
 {
   this->Bricks = vtkOpenGLVolumeBricks::New();
   this->RayModel = vtkCameraRayModel::New();
@@ -134,6 +136,25 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   if (plan == DrawNothing)
   {
     return;
+  }
+  // Times the draw (whatever path returns) without waiting for the query: the time read is the
+  // last completed one.
+  struct TimedDraw
+  {
+    vtkExtensibleGPUVolumeRayCastMapper* Mapper;
+    bool Timed;
+    ~TimedDraw()
+    {
+      if (this->Timed)
+      {
+        this->Mapper->DrawTimer->ReusableStop();
+        this->Mapper->LastDrawTime = this->Mapper->DrawTimer->GetReusableElapsedSeconds();
+      }
+    }
+  } timed{ this, vtkOpenGLRenderTimer::IsSupported() };
+  if (timed.Timed)
+  {
+    this->DrawTimer->ReusableStart();
   }
   // VTK draws nothing, with no error but log lines, from a volume texture it cannot create.
   // Bricked frames give VTK only a proxy of each brick's box.
@@ -442,6 +463,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::ReleaseGraphicsResources(vtkWindow* wi
 {
   this->ReleaseExtensionResources(window);
   this->Bricks->ReleaseGraphicsResources(window);
+  this->DrawTimer->ReleaseGraphicsResources();
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
@@ -469,6 +491,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ExtensionFrameCount: " << this->ExtensionFrameCount << "\n";
+  os << indent << "LastDrawTime: " << this->LastDrawTime << "\n";
   os << indent << "MaximumTextureBytes: " << this->MaximumTextureBytes << "\n";
   os << indent << "MaximumBrickSize: " << this->MaximumBrickSize << "\n";
   os << indent << "ScalarRange: " << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "\n";

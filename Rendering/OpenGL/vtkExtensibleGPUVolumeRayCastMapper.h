@@ -30,12 +30,14 @@
 #include "vtkSmartPointer.h" // For ivar
 #include "vtkTimeStamp.h"    // For ivar
 
+#include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
 class vtkCameraRayModel;
 class vtkGPURayCastShaderHook;
 class vtkImageData;
 class vtkOpenGLVolumeBricks;
+class vtkOpenGLRenderTimer;
 class vtkOpenGLRenderWindow;
 class vtkPiecewiseFunction;
 class vtkShaderProgram;
@@ -54,6 +56,14 @@ public:
    * Number of frames drawn with the extension's shader so far.
    */
   vtkGetMacro(ExtensionFrameCount, int);
+
+  /**
+   * The time the OpenGL implementation took for the last draw whose timer query has
+   * completed (seconds; a draw's own query completes a frame or two later), measured with
+   * vtkOpenGLRenderTimer around each draw; 0 until one has, or where timer queries are not
+   * supported.
+   */
+  vtkGetMacro(LastDrawTime, double);
 
   /**
    * Where ReplaceShaderTag() puts code: instead of the tag, or before or after it (the tag
@@ -391,6 +401,8 @@ protected:
 
   vtkTimeStamp ExtensionShaderTime;
   int ExtensionFrameCount = 0;
+  double LastDrawTime = 0.0;
+  std::unique_ptr<vtkOpenGLRenderTimer> DrawTimer; // a reusable timer query around each draw
   vtkIdType MaximumTextureBytes = vtkIdType(1) << 30;
   int MaximumBrickSize = 0;
   vtkMTimeType ReportedBoundsTime = 0; // the input time whose bounds GetBounds reported

@@ -672,6 +672,7 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
   sizer->SetMaximumAxisSize(limit);
   sizer->SetOpacityThreshold(this->OpacityThreshold);
   sizer->SetMeasurePrefilter(measurePrefilter);
+  this->TableSizing->SetFrameTime(this->GetLastDrawTime());
   if (!this->TableSizing->Update(key,
         dataKey,
         input,

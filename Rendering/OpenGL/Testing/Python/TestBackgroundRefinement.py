@@ -22,7 +22,9 @@ for both orders:
 - a time step close to the measured one (values inside its range, 0.99 times the first)
   keeps the measured sizes and range, with no interim frame, and draws what a mapper that
   measures at once and saw the same steps draws;
-- the interim tables stay within InterimEntries entries.
+- the interim tables stay within InterimEntries entries;
+- the mapper times its draws (vtkExtensibleGPUVolumeRayCastMapper::GetLastDrawTime) and gives
+  the sizing that frame time, against which a provisional table's rebuild is weighed.
 """
 
 import time
@@ -157,6 +159,11 @@ for order in (1, 2):
             "%s: TablesRefinedEvent once the first measurement is done" % name)
     view.image()
     c.check(not mapper.GetRefining(), "%s: the next frame draws the measured table" % name)
+    # The draw time the sizing weighs a rebuild against: the timer query of a draw before.
+    view.image()
+    c.check(mapper.GetLastDrawTime() > 0.0 and mapper.GetTableSizing().GetFrameTime() > 0.0,
+            "%s: the mapper times its draws (%.4f s) and gives the sizing that frame time" % (
+                name, mapper.GetLastDrawTime()))
 
     # The drag, the worker held: every frame must be drawn without a measurement.
     refiner.SetPaused(True)
