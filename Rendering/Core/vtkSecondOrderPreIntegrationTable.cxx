@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 vtkStandardNewMacro(vtkSecondOrderPreIntegrationTable);
@@ -58,6 +59,8 @@ bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built
   this->BuiltEntries = this->GetNumberOfEntries();
   this->BuiltValid = this->ComputeEntries;
   this->LastBuildEntries = other->LastBuildEntries;
+  this->LastBuildCentres[0] = 0;
+  this->LastBuildCentres[1] = this->TableSize - 1;
   other->BuiltValid = false;
   return true;
 }
@@ -307,6 +310,8 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   const bool wasValid = this->BuiltValid;
   this->BuiltValid = false;
   this->LastBuildEntries = 0;
+  this->LastBuildCentres[0] = 0;
+  this->LastBuildCentres[1] = this->TableSize - 1;
   if (!this->ComputeEntries)
   {
     return; // another builder (the GPU) integrates from the iteration table
@@ -338,11 +343,14 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   // A task per (deviation, centre) row of chords: its pairs (j, nb - 1 - j) share their
   // iteration-table lookups.
   std::atomic<vtkIdType> integrated{ 0 };
+  std::mutex centresMutex;
+  int centres[2] = { nc, -1 }; // the centre entries integrated
   const bool complete = this->ForInParts(static_cast<vtkIdType>(nd) * nc,
     [&](vtkIdType begin, vtkIdType end)
     {
       std::vector<float> steps;
       vtkIdType count = 0;
+      int lowest = nc, highest = -1;
       for (vtkIdType row = begin; row < end; ++row)
       {
         const int i = static_cast<int>(row % nc), k = static_cast<int>(row / nc);
@@ -354,6 +362,8 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
           }
           const int mirror = nb - 1 - j;
           count += mirror != j ? 2 : 1;
+          lowest = std::min(lowest, i);
+          highest = std::max(highest, i);
           float* forward = table + 4 * (i + static_cast<vtkIdType>(nc) * (j + nb * k));
           float* backward = mirror != j
             ? table + 4 * (i + static_cast<vtkIdType>(nc) * (mirror + nb * k))
@@ -370,8 +380,13 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
         }
       }
       integrated += count;
+      std::lock_guard<std::mutex> lock(centresMutex);
+      centres[0] = std::min(centres[0], lowest);
+      centres[1] = std::max(centres[1], highest);
     });
   this->LastBuildEntries = integrated * this->GetNumberOfLayers();
+  this->LastBuildCentres[0] = complete ? centres[0] : 0;
+  this->LastBuildCentres[1] = complete ? centres[1] : nc - 1;
   this->BuiltValid = complete;
 }
 

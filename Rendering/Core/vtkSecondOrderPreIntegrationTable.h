@@ -219,6 +219,14 @@ public:
   vtkGetMacro(LastBuildEntries, vtkIdType);
 
   /**
+   * The centre entries (first and last index along TableSize) whose entries the last build
+   * integrated: all of them after a whole build (and after AdoptBuild()), the ones an
+   * incremental build reached after an edit (last < first when none), so that an upload can
+   * send that slab alone.
+   */
+  vtkGetVector2Macro(LastBuildCentres, int);
+
+  /**
    * Entries the next Update() would integrate on the CPU: those that read a changed
    * transfer-function sample after an edit that left everything else alone since the last
    * build, else all of them (also when ComputeEntries is off: another builder integrates them
@@ -281,6 +289,7 @@ protected:
   vtkIdType BuiltEntries = -1;
   bool BuiltValid = false;
   vtkIdType LastBuildEntries = 0;
+  int LastBuildCentres[2] = { 0, -1 };
 
 private:
   vtkSecondOrderPreIntegrationTable(const vtkSecondOrderPreIntegrationTable&) = delete;

@@ -855,6 +855,41 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
       return false;
     }
   }
+  else if (this->TableTexture->GetContext() == context && this->TableTexture->GetHandle() != 0 &&
+    this->UploadedTable == table && this->UploadedPrecision == precision &&
+    this->UploadedBuildCount + 1 == table->GetBuildCount() &&
+    this->TableTexture->GetTarget() ==
+      static_cast<unsigned int>(volume ? GL_TEXTURE_3D : GL_TEXTURE_2D) &&
+    this->TableTexture->GetWidth() == static_cast<unsigned int>(n) &&
+    this->TableTexture->GetHeight() == static_cast<unsigned int>(volume ? nb : rows) &&
+    this->TableTexture->GetDepth() == static_cast<unsigned int>(volume ? depth : 1))
+  {
+    // One build since the last upload, into a texture of the same shape: only the centre
+    // entries it integrated (a slab of the table after an incremental build) are sent.
+    int centres[2];
+    table->GetLastBuildCentres(centres);
+    if (centres[1] >= centres[0])
+    {
+      const float* first = table->GetTable()->GetPointer(0) + 4 * centres[0];
+      const int width = centres[1] - centres[0] + 1;
+      this->TableTexture->Activate();
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      glPixelStorei(GL_UNPACK_ROW_LENGTH, n);
+      if (volume)
+      {
+        glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, nb);
+        glTexSubImage3D(
+          GL_TEXTURE_3D, 0, centres[0], 0, 0, width, nb, depth, GL_RGBA, GL_FLOAT, first);
+        glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 0);
+      }
+      else
+      {
+        glTexSubImage2D(GL_TEXTURE_2D, 0, centres[0], 0, width, rows, GL_RGBA, GL_FLOAT, first);
+      }
+      glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+      this->TableTexture->Deactivate();
+    }
+  }
   else
   {
     this->TableTexture->ReleaseGraphicsResources(context); // 2D and 3D tables differ in target
