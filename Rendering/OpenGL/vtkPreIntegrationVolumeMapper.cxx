@@ -872,8 +872,8 @@ bool vtkPreIntegrationVolumeMapper::UploadTable(vtkRenderer* ren)
     {
       const float* first = table->GetTable()->GetPointer(0) + 4 * centres[0];
       const int width = centres[1] - centres[0] + 1;
+      // Float rows meet any unpack alignment; the row length and image height are restored.
       this->TableTexture->Activate();
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
       glPixelStorei(GL_UNPACK_ROW_LENGTH, n);
       if (volume)
       {
