@@ -268,6 +268,24 @@ void vtkPreIntegrationCandidateEntries::Ensure(vtkIdType index, std::vector<floa
 }
 
 //------------------------------------------------------------------------------
+bool vtkPreIntegrationCandidateEntries::IsEmptyBetween(double low, double high) const
+{
+  if (!this->Runs || !(this->Spacing[0] > 0.0) || !(low <= high))
+  {
+    return false;
+  }
+  // Kernel units: centre entry i lies at sample SamplesPerSpacing i.
+  const double unit = this->Spacing[0] / this->Kernel.SamplesPerSpacing;
+  const double top = this->Kernel.Samples - 1;
+  const double lo = std::min(std::max((low - this->Range[0]) / unit - 1.0, 0.0), top);
+  const double hi = std::min(std::max((high - this->Range[0]) / unit + 1.0, 0.0), top);
+  const int qlo = std::min(static_cast<int>(lo), this->Kernel.Samples - 2);
+  const int qhi = std::min(static_cast<int>(hi), this->Kernel.Samples - 2);
+  // Runs are numbered in order, so equal numbers at both ends hold one run between them.
+  return this->Runs[qlo] >= 0.0f && this->Runs[qlo] == this->Runs[qhi];
+}
+
+//------------------------------------------------------------------------------
 void vtkPreIntegrationCandidateEntries::Lookup::Read(const double v[3],
   double fraction,
   double rgba[4]) const

@@ -87,6 +87,13 @@ public:
   double GetSpacing(int a) const { return this->Spacing[a]; }
 
   /**
+   * Whether every entry whose path stays within scalars [low, high] (data units) lies inside
+   * one zero-opacity run of the store's iteration table, so that it is exactly zero (the
+   * kernel's empty path). The range is widened by a sample on each side against rounding.
+   */
+  bool IsEmptyBetween(double low, double high) const;
+
+  /**
    * Reads a candidate's table through the store: axis a of the candidate has Size[a] entries
    * at values Low[a] + i / ToIndex[a] (its own view), and its entry i is the store's entry
    * Offset[a] + Scale[a] i. Read() composes as March::TablePieces does, so that it can stand

@@ -359,6 +359,20 @@ public:
       const double shortest = 1e-5; // at most 1e5 pieces
       double transmittance = 1.0;
       std::fill(rgba, rgba + 4, 0.0);
+      // A path whose values (its ends and vertex, widened against rounding) meet no opacity
+      // gives exactly what its pieces would: nothing.
+      double low = std::min(f, f + b + a), high = std::max(f, f + b + a);
+      const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
+      if (vertex > 0.0 && vertex < 1.0)
+      {
+        low = std::min(low, f + vertex * (b + vertex * a));
+        high = std::max(high, f + vertex * (b + vertex * a));
+      }
+      const double margin = 1e-12 * (std::abs(f) + std::abs(b) + std::abs(a) + this->DataRange);
+      if (this->Sampler->GetMaximumOpacity(low - margin, high + margin) <= 0.0)
+      {
+        return;
+      }
       for (double u = 0.0; u < 1.0;)
       {
         double du = 1.0 - u;

@@ -130,6 +130,17 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredChordRange = 0.0;
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
+  // The pieces of each ray that can read opacity through a centre size's shared store (ray
+  // r's are Index[Start[r]] to Index[Start[r + 1] - 1]): every entry the others read through
+  // it, for any of the centre size's candidates, is exactly zero, so leaving them out changes
+  // no sum. One per prefilter; Store is null while none is made.
+  struct Subset
+  {
+    const vtkPreIntegrationCandidateEntries* Store = nullptr;
+    std::vector<uint32_t> Index;
+    std::vector<size_t> Start;
+  };
+  Subset Subsets[2];
   // The entries the candidates of the last centre size shared in the last Choose(), kept for
   // the next one (KeepEntries).
   std::vector<std::unique_ptr<vtkPreIntegrationCandidateEntries>> Stores;
@@ -176,13 +187,61 @@ struct vtkPreIntegrationTableSizer::vtkInternals
     return std::sqrt(total / std::max<size_t>(end - begin, 1));
   }
 
-  // The kept pieces of rays [first, last) (all by default) composited with a table lookup
-  // (Read(axes, fraction, rgba)), front to back as March::Cast does, scored.
+  // The subset of the pieces that can read opacity through store for candidates whose
+  // axes reach at most reach[a] (their largest spacing) from a piece's value, clamped to
+  // [low[a], high[a]] (the values every candidate's axis a covers: a piece beyond them reads
+  // its edge entries). An entry's path x(t) = centre + chord (t - 1/2) + 4 deviation t (1 - t)
+  // (Eq. 2) stays within centre -+ |chord| / 2 plus deviation's side.
+  void MakeSubset(const vtkPreIntegrationCandidateEntries* store,
+    const double reach[3],
+    const double low[3],
+    const double high[3],
+    Subset& subset) const
+  {
+    const size_t rays = this->Rays.size();
+    std::vector<std::vector<uint32_t>> perRay(rays);
+    this->For(static_cast<vtkIdType>(rays),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType r = begin; r < end; ++r)
+        {
+          for (size_t p = this->PieceStart[r]; p < this->PieceStart[r + 1]; ++p)
+          {
+            const float* v = this->Pieces[p].Axes;
+            double lo[3], hi[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              lo[a] = std::min<double>(v[a], high[a]) - reach[a];
+              hi[a] = std::max<double>(v[a], low[a]) + reach[a];
+            }
+            const double chord = 0.5 * std::max(std::abs(lo[1]), std::abs(hi[1]));
+            if (!store->IsEmptyBetween(
+                  lo[0] - chord + std::min(lo[2], 0.0), hi[0] + chord + std::max(hi[2], 0.0)))
+            {
+              perRay[r].push_back(static_cast<uint32_t>(p));
+            }
+          }
+        }
+      });
+    subset.Index.clear();
+    subset.Start.assign(1, 0);
+    for (auto& pieces : perRay)
+    {
+      subset.Index.insert(subset.Index.end(), pieces.begin(), pieces.end());
+      subset.Start.push_back(subset.Index.size());
+    }
+    subset.Store = store;
+  }
+
+  // The kept pieces of rays [first, last) (all by default, or those of subset) composited
+  // with a table lookup (Read(axes, fraction, rgba)), front to back as March::Cast does,
+  // scored.
   template <class Lookup>
   double MeasurePieces(const Lookup& lookup,
     std::vector<double>& perRay,
     size_t first = 0,
-    size_t last = static_cast<size_t>(-1)) const
+    size_t last = static_cast<size_t>(-1),
+    const Subset* subset = nullptr) const
   {
     last = std::min(last, this->Rays.size());
     first = std::min(first, last);
@@ -199,9 +258,11 @@ struct vtkPreIntegrationTableSizer::vtkInternals
         {
           const size_t r = first + static_cast<size_t>(k);
           double* sum = &rgba[4 * k];
-          for (size_t p = this->PieceStart[r]; p < this->PieceStart[r + 1]; ++p)
+          const size_t begin = subset ? subset->Start[r] : this->PieceStart[r];
+          const size_t end = subset ? subset->Start[r + 1] : this->PieceStart[r + 1];
+          for (size_t q = begin; q < end; ++q)
           {
-            const Piece& piece = this->Pieces[p];
+            const Piece& piece = this->Pieces[subset ? subset->Index[q] : q];
             const double axes[3] = { piece.Axes[0], piece.Axes[1], piece.Axes[2] };
             double value[4];
             chunkLookup.Read(axes, piece.Fraction, value);
@@ -639,6 +700,10 @@ bool vtkPreIntegrationTableSizer::Stop()
   vtkInternals& I = *this->Internals;
   I.Aborted = true;
   I.Table = nullptr;
+  for (vtkInternals::Subset& subset : I.Subsets)
+  {
+    subset.Store = nullptr;
+  }
   I.Candidates.clear();
   I.ExactPerRay.clear();
   this->ChosenCandidate = -1;
@@ -679,8 +744,16 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
   // The candidate's entries come from the store given (the entries its centre size shares
   // with other candidates) when they lie on its grid, else from a store of its own grid.
   vtkPreIntegrationCandidateEntries::Lookup lookup;
-  if (!shared ||
-    !shared->MakeLookup(tableSize, chordSize, chordRange, deviationSize, deviationRange, lookup))
+  const vtkInternals::Subset* subset = nullptr;
+  if (shared &&
+    shared->MakeLookup(tableSize, chordSize, chordRange, deviationSize, deviationRange, lookup))
+  {
+    for (const vtkInternals::Subset& s : I.Subsets)
+    {
+      subset = s.Store == shared ? &s : subset;
+    }
+  }
+  else
   {
     if (!I.Entries.Allocate(
           I.Table, prefilter, tableSize, chordSize, chordRange, deviationSize, deviationRange) ||
@@ -693,7 +766,8 @@ double vtkPreIntegrationTableSizer::MeasureCandidate(int tableSize,
   return I.MeasurePieces(lookup,
     I.LastPerRay,
     static_cast<size_t>(std::max<vtkIdType>(begin, 0)),
-    end < 0 ? I.Rays.size() : static_cast<size_t>(end));
+    end < 0 ? I.Rays.size() : static_cast<size_t>(end),
+    subset);
 }
 
 //------------------------------------------------------------------------------
@@ -996,6 +1070,27 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
     for (int p = 0; p < 2; ++p)
     {
       shared[p] = fitting[p].empty() ? nullptr : share(fitting[p], p == 1);
+      I.Subsets[p].Store = nullptr;
+      if (shared[p])
+      {
+        // How far the candidates' entries reach from a piece, and the axis values all of
+        // them cover (a single entry's axis holds 0 alone).
+        double reach[3] = { width / (fitting[p].front().Sizes[0] - 1), 0.0, 0.0 };
+        double low[3] = { range[0], 0.0, 0.0 }, high[3] = { range[1], 0.0, 0.0 };
+        bool first = true;
+        for (const Candidate& c : fitting[p])
+        {
+          for (int a = 1; a < 3; ++a)
+          {
+            const double extent = c.Sizes[a] > 1 ? c.Ranges[a - 1] : 0.0;
+            reach[a] = std::max(reach[a], c.Sizes[a] > 1 ? 2.0 * extent / (c.Sizes[a] - 1) : 0.0);
+            high[a] = first ? extent : std::min(high[a], extent);
+            low[a] = -high[a];
+          }
+          first = false;
+        }
+        I.MakeSubset(shared[p].get(), reach, low, high, I.Subsets[p]);
+      }
     }
     // Finest first, as the loops made them: the coarser candidates then find most of their
     // entries integrated.
@@ -1052,6 +1147,10 @@ bool vtkPreIntegrationTableSizer::Choose(vtkImageData* volume,
         }
         c.Error = rest < 0.0 ? -1.0 : std::sqrt(sum / std::max<size_t>(all, 1));
       }
+    }
+    for (vtkInternals::Subset& subset : I.Subsets)
+    {
+      subset.Store = nullptr; // its store is kept, or freed, below
     }
     // Only the last centre size's stores are kept (the largest, where most entries are
     // integrated): a Choose() holds no more stores at once than one centre size's.

@@ -24,7 +24,10 @@
  *      (vtkPreIntegrationCandidateEntries: their entries lie on the finest one's grid; with
  *      KeepEntries they outlive the Choose(), and an edit of the transfer functions
  *      integrates again only the entries that read what changed), and with the exact segment
- *      model (each piece integrated along its model path, no table). Each candidate is
+ *      model (each piece integrated along its model path, no table). A piece whose
+ *      entries, for every candidate of a centre size, lie inside one zero-opacity run of the
+ *      transfer functions adds exactly nothing and is left out of that size's compositing,
+ *      and the exact model skips such paths too. Each candidate is
  *      measured on the first ScreeningFraction of the rays first; those rays drop, with
  *      confidence, the candidates out of twice the Tolerance of the best so far, and the
  *      others are measured on all the rays;
