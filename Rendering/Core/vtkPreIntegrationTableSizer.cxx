@@ -91,6 +91,27 @@ struct ExactLookup
   March::ExactPieces Exact;
   int Order = 1;
   double Step = 1.0;
+  // The scalar interval the integration of a piece of axes v can read the transfer
+  // functions in: its path's values (ends and vertex) widened by its sweep bound, the reach of
+  // the sampler's queries (ExactPieces::Integrate).
+  void Reach(const float v[3], double reach[2]) const
+  {
+    const double sf = v[0] - 0.5 * double(v[1]), sb = v[0] + 0.5 * double(v[1]);
+    const double sm = double(v[0]) + v[2];
+    const double b = this->Order == 1 ? sb - sf : -3.0 * sf + 4.0 * sm - sb;
+    const double a = this->Order == 1 ? 0.0 : 2.0 * sf - 4.0 * sm + 2.0 * sb;
+    double low = std::min(sf, sf + b + a), high = std::max(sf, sf + b + a);
+    const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
+    if (vertex > 0.0 && vertex < 1.0)
+    {
+      low = std::min(low, sf + vertex * (b + vertex * a));
+      high = std::max(high, sf + vertex * (b + vertex * a));
+    }
+    const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
+    const double margin = 1e-9 * (std::abs(sf) + std::abs(b) + std::abs(a) + this->Exact.DataRange);
+    reach[0] = low - sweep - margin;
+    reach[1] = high + sweep + margin;
+  }
   void Read(const double v[3], double fraction, double rgba[4]) const
   {
     const double sf = v[0] - 0.5 * v[1], sb = v[0] + 0.5 * v[1];
@@ -121,6 +142,11 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   std::vector<double> LastPerRay;                     // of the last Measure()
   std::vector<double> RayKey;                         // what the rays were computed from
   std::vector<double> ReferenceKey;                   // what their reference was computed from
+  // The reference's colour as weights of the colour nodes (per ray), for the transfer
+  // functions of ColorSampler (a copy) and the rays, range and tolerance of ColorKey.
+  std::vector<double> ColorWeights;
+  std::vector<double> ColorKey;
+  vtkNew<vtkVolumeTransferFunctionSampler> ColorSampler;
   // The pieces of every ray (ray r's from PieceStart[r] to PieceStart[r + 1]): they depend on
   // the volume, the rays, the order and the step, not on the transfer functions, and are kept
   // while those stay the same.
@@ -130,6 +156,14 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   double MeasuredChordRange = 0.0;
   double MeasuredDeviationRange = 0.0;
   std::vector<double> ExactPerRay; // the exact segment model's squared errors, when measured
+  // The exact segment model's value of each piece (4 per piece), valid where ExactValid is set
+  // for the transfer functions of ExactSampler (a copy) and the pieces, tolerance and range of
+  // ExactKey: an edit of the transfer functions integrates again only the pieces whose reach
+  // meets the scalars it changed (vtkVolumeTransferFunctionSampler::GetChangedRange).
+  std::vector<double> ExactValues;
+  std::vector<unsigned char> ExactValid;
+  std::vector<double> ExactKey;
+  vtkNew<vtkVolumeTransferFunctionSampler> ExactSampler;
   // The pieces of each ray that can read opacity through a centre size's shared store (ray
   // r's are Index[Start[r]] to Index[Start[r + 1] - 1]): every entry the others read through
   // it, for any of the centre size's candidates, is exactly zero, so leaving them out changes
@@ -185,6 +219,39 @@ struct vtkPreIntegrationTableSizer::vtkInternals
       total += perRay[r];
     }
     return std::sqrt(total / std::max<size_t>(end - begin, 1));
+  }
+
+  // The exact segment model along the rays, each piece's value integrated unless it holds
+  // from an earlier measurement (ExactValid), scored into perRay.
+  double MeasureExact(const ExactLookup& exact, std::vector<double>& perRay)
+  {
+    const size_t rays = this->Rays.size();
+    std::vector<double> rgba(4 * rays, 0.0);
+    this->For(static_cast<vtkIdType>(rays),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType r = begin; r < end && !this->AbortRequested.load(); ++r)
+        {
+          double* sum = &rgba[4 * r];
+          for (size_t p = this->PieceStart[r]; p < this->PieceStart[r + 1]; ++p)
+          {
+            double* value = &this->ExactValues[4 * p];
+            if (!this->ExactValid[p])
+            {
+              const Piece& piece = this->Pieces[p];
+              const double axes[3] = { piece.Axes[0], piece.Axes[1], piece.Axes[2] };
+              exact.Read(axes, piece.Fraction, value);
+              this->ExactValid[p] = 1;
+            }
+            const double copy[4] = { value[0], value[1], value[2], value[3] };
+            if (!March::Composite(copy, this->Threshold, sum))
+            {
+              break;
+            }
+          }
+        }
+      });
+    return this->AbortRequested.load() ? -1.0 : this->Score(rgba, perRay, 0, rays);
   }
 
   // The subset of the pieces that can read opacity through store for candidates whose
@@ -586,8 +653,23 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   // Ground truth along them, at the reference integrator's tolerance: a coarser one puts a
   // floor under the errors measured, below which no candidate can be told from another.
   const double tolerance = this->ReferenceTolerance;
-  if (!reuse)
+  // After an edit of the colours alone, the rays are recoloured from their colour weights.
+  std::vector<double> colorKey = rayKey;
+  colorKey.insert(colorKey.end(), { range[0], range[1], tolerance });
+  const size_t nodes = static_cast<size_t>(sampler->GetNumberOfColorNodes());
+  const bool recolor = !reuse && reuseRays && colorKey == I.ColorKey &&
+    I.ColorWeights.size() == nodes * I.Rays.size() && sampler->IsColorEditOf(I.ColorSampler);
+  if (recolor)
   {
+    for (size_t r = 0; r < I.Rays.size(); ++r)
+    {
+      sampler->CombineColors(&I.ColorWeights[nodes * r], &I.Reference[4 * r]);
+    }
+  }
+  else if (!reuse)
+  {
+    I.ColorKey.clear();
+    I.ColorWeights.assign(nodes * I.Rays.size(), 0.0);
     std::vector<double> origins, directions;
     for (const Ray& ray : I.Rays)
     {
@@ -606,7 +688,13 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       directions.data(),
       I.Reference.data(),
       &I.AbortRequested,
-      I.LowPriority);
+      I.LowPriority,
+      I.ColorWeights.data());
+    if (!I.AbortRequested)
+    {
+      I.ColorKey = colorKey;
+      I.ColorSampler->DeepCopy(sampler);
+    }
   }
   if (I.AbortRequested)
   {
@@ -683,7 +771,37 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
     exact.Exact.DataRange = width;
     exact.Order = order;
     exact.Step = sampleDistance;
-    this->ExactError = I.MeasurePieces(exact, I.ExactPerRay);
+    // The pieces' values kept from the last measurement hold for the same pieces, tolerance
+    // and range outside the scalars the transfer functions changed in.
+    std::vector<double> exactKey = pieceKey;
+    exactKey.insert(exactKey.end(), { tolerance, width });
+    const size_t pieces = I.Pieces.size();
+    if (exactKey != I.ExactKey || I.ExactValid.size() != pieces)
+    {
+      I.ExactValues.assign(4 * pieces, 0.0);
+      I.ExactValid.assign(pieces, 0);
+    }
+    else
+    {
+      double changed[2];
+      sampler->GetChangedRange(I.ExactSampler, changed);
+      if (changed[0] <= changed[1])
+      {
+        I.For(static_cast<vtkIdType>(pieces),
+          [&](vtkIdType begin, vtkIdType end)
+          {
+            for (vtkIdType p = begin; p < end; ++p)
+            {
+              double reach[2];
+              exact.Reach(I.Pieces[p].Axes, reach);
+              I.ExactValid[p] &= reach[1] < changed[0] || reach[0] > changed[1] ? 1 : 0;
+            }
+          });
+      }
+    }
+    I.ExactKey = exactKey;
+    I.ExactSampler->DeepCopy(sampler);
+    this->ExactError = I.MeasureExact(exact, I.ExactPerRay);
     if (I.AbortRequested)
     {
       return this->Stop();

@@ -465,12 +465,19 @@ public:
 
   // Integrates the ray o + t v in grid index along its walk; view is the unit world direction
   // towards the eye (used when shading).
+  // With colorWeights (unshaded), the ray's colour is also accumulated as weights of the
+  // colour nodes (vtkVolumeTransferFunctionSampler::GetColorWeights), zeroed first.
   vtkIdType Integrate(const double o[3],
     const double v[3],
     vtkGridRayTraversal& walk,
     double rgba[4],
-    const double view[3] = nullptr) const
+    const double view[3] = nullptr,
+    double* colorWeights = nullptr) const
   {
+    if (colorWeights)
+    {
+      std::fill(colorWeights, colorWeights + this->Sampler->GetNumberOfColorNodes(), 0.0);
+    }
     rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
     double transmittance = 1.0;
     vtkIdType pieces = 0;
@@ -530,7 +537,8 @@ public:
         const double middle = t + 0.5 * h;
         t += h;
         double sample[4];
-        this->Sampler->Evaluate(profile.Evaluate(middle), sample);
+        const double scalar = profile.Evaluate(middle);
+        this->Sampler->Evaluate(scalar, sample);
         if (shade && sample[3] > 0.0)
         {
           const double u[3] = {
@@ -546,6 +554,13 @@ public:
         rgba[0] += weight * sample[0];
         rgba[1] += weight * sample[1];
         rgba[2] += weight * sample[2];
+        if (colorWeights && !shade)
+        {
+          double w[2];
+          const int k = this->Sampler->GetColorWeights(scalar, w);
+          colorWeights[k] += weight * w[0];
+          colorWeights[k + (w[1] != 0.0 ? 1 : 0)] += weight * w[1];
+        }
         transmittance *= 1.0 - alpha;
       }
       pieces += count;
@@ -773,7 +788,8 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
   const double* directions,
   double* rgba,
   const std::atomic<bool>* abort,
-  bool lowPriority)
+  bool lowPriority,
+  double* colorWeights)
 {
   VolumeGrid grid;
   grid.Values = values;
@@ -789,9 +805,15 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
       }
       vtkGridRayTraversal walk;
       std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
+      if (colorWeights)
+      {
+        const vtkIdType nodes = sampler->GetNumberOfColorNodes();
+        std::fill(colorWeights + r * nodes, colorWeights + (r + 1) * nodes, 0.0);
+      }
       if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
       {
-        caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r);
+        caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r, nullptr,
+          colorWeights ? colorWeights + r * sampler->GetNumberOfColorNodes() : nullptr);
       }
     }
   };

@@ -184,7 +184,12 @@ public:
    * than dataRange count as that wide); rays stop when their transmittance falls below
    * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools, or with lowPriority
    * in threads of low priority (vtkLowPriorityThreads). When abort is given and becomes
-   * true, the rays not yet begun are left out (their rgba is not written).
+   * true, the rays not yet begun are left out (their rgba is not written). With
+   * colorWeights (sampler->GetNumberOfColorNodes() per ray), each ray's colour is also given
+   * as weights of the colour nodes (its sum of vtkVolumeTransferFunctionSampler::
+   * GetColorWeights() times the pieces' weights): where the colours interpolate linearly, a
+   * colour edit (vtkVolumeTransferFunctionSampler::IsColorEditOf) recolours the rays by
+   * CombineColors() without integrating them again.
    */
   static void IntegrateRays(const vtkVolumeScalarView& values,
     const int dims[3],
@@ -197,7 +202,8 @@ public:
     const double* directions,
     double* rgba,
     const std::atomic<bool>* abort = nullptr,
-    bool lowPriority = false);
+    bool lowPriority = false,
+    double* colorWeights = nullptr);
 #endif
 
 protected:

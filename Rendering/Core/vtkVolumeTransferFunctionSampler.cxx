@@ -4,6 +4,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkSmartPointer.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
@@ -285,6 +286,180 @@ void vtkVolumeTransferFunctionSampler::SetFromSampler(vtkVolumeTransferFunctionS
     this->SetScalarOpacity(other->GetScalarOpacity());
     this->SetScalarOpacityUnitDistance(other->GetScalarOpacityUnitDistance());
     this->SetMaximumOpacity(other->GetMaximumOpacity());
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeTransferFunctionSampler::DeepCopy(vtkVolumeTransferFunctionSampler* other)
+{
+  if (other && other != this)
+  {
+    vtkSmartPointer<vtkColorTransferFunction> color;
+    if (other->GetColor())
+    {
+      color = vtkSmartPointer<vtkColorTransferFunction>::New();
+      color->DeepCopy(other->GetColor());
+    }
+    vtkSmartPointer<vtkPiecewiseFunction> gray, opacity;
+    if (other->GetGrayColor())
+    {
+      gray = vtkSmartPointer<vtkPiecewiseFunction>::New();
+      gray->DeepCopy(other->GetGrayColor());
+    }
+    if (other->GetScalarOpacity())
+    {
+      opacity = vtkSmartPointer<vtkPiecewiseFunction>::New();
+      opacity->DeepCopy(other->GetScalarOpacity());
+    }
+    this->SetColor(color);
+    this->SetGrayColor(gray);
+    this->SetScalarOpacity(opacity);
+    this->SetScalarOpacityUnitDistance(other->GetScalarOpacityUnitDistance());
+    this->SetMaximumOpacity(other->GetMaximumOpacity());
+  }
+  return this->Prepare();
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::GetChangedRange(
+  vtkVolumeTransferFunctionSampler* before, double range[2]) const
+{
+  const vtkInternals& now = *this->Internals;
+  const vtkInternals& then = *before->Internals;
+  const double infinity = std::numeric_limits<double>::infinity();
+  range[0] = infinity;
+  range[1] = -infinity;
+  if (now.InverseUnitDistance != then.InverseUnitDistance ||
+    now.MaximumOpacity != then.MaximumOpacity || now.OpacityNodes.size() != then.OpacityNodes.size() ||
+    now.ColorCurve.size() != then.ColorCurve.size() ||
+    now.Positions.size() != then.Positions.size())
+  {
+    range[0] = -infinity;
+    range[1] = infinity;
+    return;
+  }
+  // A changed value at index i of an ascending list of positions: from its lower neighbour to
+  // its upper one, old and new (beyond an end node, to infinity).
+  auto widen = [&](size_t i, size_t n, double lowNow, double lowThen, double highNow,
+                 double highThen)
+  {
+    range[0] = std::min(range[0], i == 0 ? -infinity : std::min(lowNow, lowThen));
+    range[1] = std::max(range[1], i + 1 == n ? infinity : std::max(highNow, highThen));
+  };
+  for (const auto& lists : { std::make_pair(&now.OpacityNodes, &then.OpacityNodes),
+         std::make_pair(&now.ColorCurve, &then.ColorCurve) })
+  {
+    const std::vector<Node>& a = *lists.first;
+    const std::vector<Node>& b = *lists.second;
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+      if (a[i].X != b[i].X || a[i].Y[0] != b[i].Y[0] || a[i].Y[1] != b[i].Y[1] ||
+        a[i].Y[2] != b[i].Y[2] || a[i].Midpoint != b[i].Midpoint ||
+        a[i].Sharpness != b[i].Sharpness)
+      {
+        widen(i, a.size(), i > 0 ? a[i - 1].X : 0.0, i > 0 ? b[i - 1].X : 0.0,
+          i + 1 < a.size() ? a[i + 1].X : 0.0, i + 1 < b.size() ? b[i + 1].X : 0.0);
+      }
+    }
+  }
+  const std::vector<double>& a = now.Positions;
+  const std::vector<double>& b = then.Positions;
+  for (size_t i = 0; i < a.size(); ++i)
+  {
+    if (a[i] != b[i])
+    {
+      widen(i, a.size(), i > 0 ? a[i - 1] : 0.0, i > 0 ? b[i - 1] : 0.0,
+        i + 1 < a.size() ? a[i + 1] : 0.0, i + 1 < b.size() ? b[i + 1] : 0.0);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkVolumeTransferFunctionSampler::IsColorEditOf(vtkVolumeTransferFunctionSampler* before) const
+{
+  const vtkInternals& now = *this->Internals;
+  const vtkInternals& then = *before->Internals;
+  auto same = [](const Node& a, const Node& b, bool values)
+  {
+    return a.X == b.X && a.Midpoint == b.Midpoint && a.Sharpness == b.Sharpness &&
+      (!values || (a.Y[0] == b.Y[0] && a.Y[1] == b.Y[1] && a.Y[2] == b.Y[2]));
+  };
+  if (now.OpacityNodes.empty() || then.OpacityNodes.empty() ||
+    now.InverseUnitDistance != then.InverseUnitDistance ||
+    now.MaximumOpacity != then.MaximumOpacity || now.Positions != then.Positions ||
+    now.OpacityNodes.size() != then.OpacityNodes.size() ||
+    now.ColorCurve.size() != then.ColorCurve.size())
+  {
+    return false;
+  }
+  for (size_t i = 0; i < now.OpacityNodes.size(); ++i)
+  {
+    if (!same(now.OpacityNodes[i], then.OpacityNodes[i], true))
+    {
+      return false;
+    }
+  }
+  for (size_t i = 0; i < now.ColorCurve.size(); ++i)
+  {
+    const double sharpness = now.ColorCurve[i].Sharpness;
+    if (!same(now.ColorCurve[i], then.ColorCurve[i], false) ||
+      (sharpness >= 0.01 && sharpness <= 0.99))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeTransferFunctionSampler::GetNumberOfColorNodes() const
+{
+  return static_cast<int>(this->Internals->ColorCurve.size());
+}
+
+//------------------------------------------------------------------------------
+int vtkVolumeTransferFunctionSampler::GetColorWeights(double s, double weights[2]) const
+{
+  const std::vector<Node>& nodes = this->Internals->ColorCurve;
+  weights[0] = 1.0;
+  weights[1] = 0.0;
+  if (std::isnan(s) || nodes.empty())
+  {
+    weights[0] = 0.0;
+    return 0;
+  }
+  // As EvaluateNodes and InterpolateNodes: the end values outside, else the two nodes around.
+  auto upper = std::upper_bound(
+    nodes.begin(), nodes.end(), s, [](double v, const Node& node) { return v < node.X; });
+  if (upper == nodes.end() || upper == nodes.begin())
+  {
+    return upper == nodes.end() ? static_cast<int>(nodes.size()) - 1 : 0;
+  }
+  const Node& a = *(upper - 1);
+  const Node& b = *upper;
+  const double midpoint = std::min(std::max(a.Midpoint, 0.00001), 0.99999);
+  double u = (s - a.X) / (b.X - a.X);
+  u = u < midpoint ? 0.5 * u / midpoint : 0.5 + 0.5 * (u - midpoint) / (1.0 - midpoint);
+  if (a.Sharpness > 0.99)
+  {
+    u = u < 0.5 ? 0.0 : 1.0;
+  }
+  weights[0] = 1.0 - u;
+  weights[1] = u;
+  return static_cast<int>(upper - nodes.begin()) - 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeTransferFunctionSampler::CombineColors(const double* weights, double rgb[3]) const
+{
+  rgb[0] = rgb[1] = rgb[2] = 0.0;
+  const std::vector<Node>& nodes = this->Internals->ColorCurve;
+  for (size_t k = 0; k < nodes.size(); ++k)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] += weights[k] * nodes[k].Y[c];
+    }
   }
 }
 

@@ -99,6 +99,52 @@ public:
   void SetFromSampler(vtkVolumeTransferFunctionSampler* other);
 
   /**
+   * Take copies of the functions of another sampler (later edits of its functions do not
+   * reach this one), its unit distance and opacity cap, and Prepare(). Returns Prepare()'s
+   * result.
+   */
+  bool DeepCopy(vtkVolumeTransferFunctionSampler* other);
+
+  /**
+   * The closed scalar interval outside which this sampler evaluates as `before` did (both
+   * prepared): Evaluate(), EvaluateOpacity(), GetMaximumOpacity(), GetSmallestFeature() and
+   * GetLongestSweep() on values and intervals that do not meet [range[0], range[1]] give the
+   * same results. A node that changed reaches to its neighbours (the node intervals it
+   * bounds), and beyond the end nodes to infinity; the whole line when a function gained or
+   * lost nodes or the unit distance or opacity cap differ; empty (range[0] > range[1]) when
+   * nothing evaluates differently.
+   */
+  void GetChangedRange(vtkVolumeTransferFunctionSampler* before, double range[2]) const;
+
+  /**
+   * Whether this sampler differs from `before` (both prepared) in its colours alone: the same
+   * opacity, unit distance, opacity cap and node positions, and colours that interpolate
+   * linearly (or hold) between their nodes in both, at the same places (no node's sharpness
+   * between 0.01 and 0.99, where VTK's curve is not linear in the colours). A colour of either
+   * is then the same weighting of its colour nodes' values (GetColorWeights()).
+   */
+  bool IsColorEditOf(vtkVolumeTransferFunctionSampler* before) const;
+
+  /**
+   * Colour nodes as evaluated: the function's nodes in RGB, the piecewise-linear curve
+   * followed in other colour spaces. Requires Prepare().
+   */
+  int GetNumberOfColorNodes() const;
+
+  /**
+   * The colour at scalar s as a weighting of two colour nodes, where colours interpolate
+   * linearly or hold (see IsColorEditOf()): colour = weights[0] node[k] + weights[1] node[k + 1],
+   * k returned (weights[1] is 0 outside the nodes). Requires Prepare().
+   */
+  int GetColorWeights(double s, double weights[2]) const;
+
+  /**
+   * The sum over the colour nodes of weights[k] times node k's colour, for
+   * GetNumberOfColorNodes() weights. Requires Prepare().
+   */
+  void CombineColors(const double* weights, double rgb[3]) const;
+
+  /**
    * Check the settings and copy the nodes for evaluation. Returns false and reports an error
    * if a function is missing or empty or the unit distance is not positive (or not finite). Cheap
    * when nothing changed since the last call.

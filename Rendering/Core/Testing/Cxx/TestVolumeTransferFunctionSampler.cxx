@@ -8,6 +8,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkVolumeTransferFunctionSampler.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <vector>
@@ -185,6 +186,116 @@ int TestVolumeTransferFunctionSampler(int, char*[])
     const double g = gray->GetValue(s);
     Check(std::abs(rgbTau[0] - g) < 1e-12 && rgbTau[1] == rgbTau[0] && rgbTau[2] == rgbTau[0],
       "grey colour equals vtkPiecewiseFunction::GetValue on all channels");
+  }
+
+  // Edits: outside GetChangedRange() every query answers as before the edit; a colour edit
+  // leaves colours a weighting of the colour nodes.
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    vtkNew<vtkColorTransferFunction> color;
+    vtkNew<vtkPiecewiseFunction> alpha;
+    for (int k = 0; k < 6; ++k)
+    {
+      const double x = 10.0 * k + 8.0 * next();
+      color->AddRGBPoint(x, next(), next(), next());
+      alpha->AddPoint(x + 3.0 * next(), next(), 0.2 + 0.6 * next(), next() < 0.5 ? 0.0 : next());
+    }
+    vtkNew<vtkVolumeTransferFunctionSampler> edited, before;
+    edited->SetColor(color);
+    edited->SetScalarOpacity(alpha);
+    edited->SetScalarOpacityUnitDistance(0.7);
+    Check(edited->Prepare() && before->DeepCopy(edited), "a deep copy prepares");
+    double changed[2];
+    edited->GetChangedRange(before, changed);
+    Check(changed[0] > changed[1], "nothing changed: an empty changed range");
+    Check(edited->IsColorEditOf(before), "the same functions are a colour edit");
+    // One opacity node's value (or its position, between its neighbours) changes.
+    const int node = static_cast<int>(next() * 6) % 6;
+    double values[4];
+    alpha->GetNodeValue(node, values);
+    const bool move = trial % 2 == 1 && node > 0 && node < 5;
+    if (move)
+    {
+      double low[4], high[4];
+      alpha->GetNodeValue(node - 1, low);
+      alpha->GetNodeValue(node + 1, high);
+      values[0] = low[0] + (high[0] - low[0]) * (0.1 + 0.8 * next());
+    }
+    else
+    {
+      values[1] = next();
+    }
+    alpha->SetNodeValue(node, values);
+    Check(edited->Prepare(), "Prepare after an edit");
+    edited->GetChangedRange(before, changed);
+    Check(changed[0] <= values[0] && values[0] <= changed[1], "the edited node is changed");
+    Check(!edited->IsColorEditOf(before), "an opacity edit is not a colour edit");
+    int outside = 0;
+    for (int q = 0; q < 400; ++q)
+    {
+      const double a = -10.0 + 80.0 * next(), b = a + 6.0 * next() * next();
+      if (!(b < changed[0] || a > changed[1]))
+      {
+        continue;
+      }
+      ++outside;
+      double e[4], f[4];
+      edited->Evaluate(a, e);
+      before->Evaluate(a, f);
+      const double cap = b - a;
+      const double s = a + 0.5 * cap;
+      Check(e[0] == f[0] && e[1] == f[1] && e[2] == f[2] && e[3] == f[3] &&
+          edited->GetMaximumOpacity(a, b) == before->GetMaximumOpacity(a, b) &&
+          edited->GetSmallestFeature(a, b) == before->GetSmallestFeature(a, b) &&
+          edited->GetLongestSweep(s, 1.0 / 64.0, 70.0, 0.5 * cap) ==
+            before->GetLongestSweep(s, 1.0 / 64.0, 70.0, 0.5 * cap),
+        "outside the changed range, queries answer as before the edit");
+    }
+    Check(outside > 0, "some queries lie outside the changed range");
+    // A node more: everything changed.
+    alpha->AddPoint(75.0, 0.5);
+    edited->Prepare();
+    edited->GetChangedRange(before, changed);
+    Check(std::isinf(changed[0]) && std::isinf(changed[1]), "a new node changes everything");
+    alpha->RemovePoint(75.0);
+    alpha->GetNodeValue(node, values);
+    // The opacity as before, a colour node's colour edited: a colour edit, whose colours are
+    // the colour nodes weighted by GetColorWeights().
+    double old[4];
+    before->GetScalarOpacity()->GetNodeValue(node, old);
+    alpha->SetNodeValue(node, old);
+    double rgb[6];
+    color->GetNodeValue(node, rgb);
+    rgb[1] = next();
+    rgb[3] = next();
+    color->SetNodeValue(node, rgb);
+    edited->Prepare();
+    Check(edited->IsColorEditOf(before), "a colour edit is one");
+    const int n = edited->GetNumberOfColorNodes();
+    std::vector<double> weights(n);
+    double worst = 0.0;
+    for (int q = 0; q < 200; ++q)
+    {
+      const double s = -10.0 + 80.0 * next();
+      double w[2], e[4], combined[3];
+      std::fill(weights.begin(), weights.end(), 0.0);
+      const int k = edited->GetColorWeights(s, w);
+      weights[k] += w[0];
+      weights[std::min(k + 1, n - 1)] += w[1];
+      edited->CombineColors(weights.data(), combined);
+      edited->Evaluate(s, e);
+      for (int c = 0; c < 3; ++c)
+      {
+        worst = std::max(worst, std::abs(combined[c] - e[c]));
+      }
+    }
+    Check(worst < 1e-12, "colours are their nodes weighted by GetColorWeights");
+    // A colour node whose curve is not linear in the colours: no colour edit.
+    color->GetNodeValue(node, rgb);
+    rgb[5] = 0.5;
+    color->SetNodeValue(node, rgb);
+    edited->Prepare();
+    Check(!edited->IsColorEditOf(before), "a sharpness of 0.5 is no colour edit");
   }
 
   if (failures)

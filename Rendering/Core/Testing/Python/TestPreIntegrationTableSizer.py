@@ -221,6 +221,49 @@ def alone_mismatches(sizer, table):
     return wrong
 
 
+def colour_edit_mismatch(sizer, table, image, order, step, colour, rng):
+    """Edit one node of colour, Choose() with sizer (which kept its reference) and with a
+    fresh sizer from the same table state, and restore the node: None when both measure every
+    candidate and the exact model within 1e-9 (relative), else what differs."""
+    scalars = image.GetPointData().GetScalars()
+    node = [0.0] * 6
+    index = int(rng.integers(colour.GetSize()))
+    colour.GetNodeValue(index, node)
+    edited = list(node)
+    edited[1:4] = [float(v) for v in rng.uniform(0.0, 1.0, 3)]
+    colour.SetNodeValue(index, edited)
+    state = table_state(table)
+    measured = []
+    try:
+        sizer.SetMeasureExactModel(True)
+        fresh = hovr.vtkPreIntegrationTableSizer()
+        fresh.CopySettings(sizer)
+        for one in (sizer, fresh):
+            set_table_state(table, state)
+            if not one.Choose(image, scalars, table, order, step):
+                return "a Choose() failed"
+            sizes = [0, 0, 0]
+            candidates = []
+            for i in range(one.GetNumberOfCandidates()):
+                one.GetCandidateSizes(i, sizes)
+                candidates.append((tuple(sizes), one.GetCandidateError(i)))
+            measured.append((candidates, one.GetExactError(), table_state(table)))
+    finally:
+        sizer.SetMeasureExactModel(False)
+        colour.SetNodeValue(index, node)
+        set_table_state(table, state)
+    (kept, kept_exact, kept_state), (new, new_exact, new_state) = measured
+    if kept_state != new_state or [k[0] for k in kept] != [n[0] for n in new]:
+        return "chosen %s and %s, candidates %d and %d" % (kept_state, new_state, len(kept),
+                                                            len(new))
+    close = lambda a, b: abs(a - b) <= 1e-9 * max(abs(a), abs(b))
+    for (sizes, a), (_, b) in zip(kept, new):
+        if not close(a, b):
+            return "candidate %s: %.17g and %.17g" % (sizes, a, b)
+    return None if close(kept_exact, new_exact) else "exact %.17g and %.17g" % (kept_exact,
+                                                                              new_exact)
+
+
 arguments = sys.argv[1:]
 if "--cases" in arguments:
     at = arguments.index("--cases")
@@ -285,6 +328,13 @@ for case in CASE_NUMBERS:
                         "the kept entries as alone (%s)" % (
                             seed, order, sizer.GetNumberOfCandidates(), wrong[:3]))
             opacity.SetNodeValue(peak, nodes[peak])
+            # An edit of one colour node's colour: the sizer recolours its rays' reference from
+            # their colour weights instead of integrating them; a fresh sizer (from the same
+            # table state) must measure every candidate and the exact model alike.
+            mismatch = colour_edit_mismatch(
+                sizer, table, image, order, step, prop.GetRGBTransferFunction(), rng)
+            c.check(mismatch is None, "seed %d order %d: after a colour edit, the kept and a "
+                    "fresh sizer measure alike (%s)" % (seed, order, mismatch))
             # Axes cut to a size limit and a small memory limit: candidates off the shared grid
             # and levels without one.
             small = hovr.vtkPreIntegrationTableSizer()
