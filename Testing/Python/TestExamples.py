@@ -130,4 +130,17 @@ summaries = re.findall(r"order (\d), (drag|spike) *: 2 edits, .* median ([0-9.]+
                        r"\d+, worst ([0-9.]+)", process.stdout)
 c.check(len(summaries) == 4 and all(0.0 < float(m) <= float(w) for _, _, m, w in summaries),
         "provisional tables prints a summary per order and edit")
+# Where a measurement spends its time: a phase per ProgressEvent, after each of two edits.
+for change in ("colour", "step"):
+    process = subprocess.run([sys.executable, os.path.join(ROOT, "Examples", "Python",
+                                                           "sizer_phases.py"),
+                              "--size", "48", "--change", change, "--repeats", "2"],
+                             capture_output=True, text=True, timeout=300)
+    print("sizer phases", process.stdout.strip())
+    c.check(process.returncode == 0, "sizer phases (%s) exits 0 (%s)" % (
+        change, process.stderr.strip()))
+    c.check(len(re.findall(r"^%s \d: \d+ ms \(reference \d+, pieces \d+, exact model \d+, "
+                           r"centre size 1 \d+.*choice \d+\); \d+ candidates, chosen \d+x\d+x\d+$"
+                           % change, process.stdout, re.M)) == 2,
+            "sizer phases (%s) prints the phases of both measurements" % change)
 c.finish()
