@@ -812,7 +812,11 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
       }
       if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
       {
-        caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r, nullptr,
+        caster.Integrate(origins + 3 * r,
+          directions + 3 * r,
+          walk,
+          rgba + 4 * r,
+          nullptr,
           colorWeights ? colorWeights + r * sampler->GetNumberOfColorNodes() : nullptr);
       }
     }

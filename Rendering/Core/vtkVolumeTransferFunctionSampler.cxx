@@ -321,8 +321,8 @@ bool vtkVolumeTransferFunctionSampler::DeepCopy(vtkVolumeTransferFunctionSampler
 }
 
 //------------------------------------------------------------------------------
-void vtkVolumeTransferFunctionSampler::GetChangedRange(
-  vtkVolumeTransferFunctionSampler* before, double range[2]) const
+void vtkVolumeTransferFunctionSampler::GetChangedRange(vtkVolumeTransferFunctionSampler* before,
+  double range[2]) const
 {
   const vtkInternals& now = *this->Internals;
   const vtkInternals& then = *before->Internals;
@@ -330,7 +330,8 @@ void vtkVolumeTransferFunctionSampler::GetChangedRange(
   range[0] = infinity;
   range[1] = -infinity;
   if (now.InverseUnitDistance != then.InverseUnitDistance ||
-    now.MaximumOpacity != then.MaximumOpacity || now.OpacityNodes.size() != then.OpacityNodes.size() ||
+    now.MaximumOpacity != then.MaximumOpacity ||
+    now.OpacityNodes.size() != then.OpacityNodes.size() ||
     now.ColorCurve.size() != then.ColorCurve.size() ||
     now.Positions.size() != then.Positions.size())
   {
@@ -340,8 +341,8 @@ void vtkVolumeTransferFunctionSampler::GetChangedRange(
   }
   // A changed value at index i of an ascending list of positions: from its lower neighbour to
   // its upper one, old and new (beyond an end node, to infinity).
-  auto widen = [&](size_t i, size_t n, double lowNow, double lowThen, double highNow,
-                 double highThen)
+  auto widen = [&](
+                 size_t i, size_t n, double lowNow, double lowThen, double highNow, double highThen)
   {
     range[0] = std::min(range[0], i == 0 ? -infinity : std::min(lowNow, lowThen));
     range[1] = std::max(range[1], i + 1 == n ? infinity : std::max(highNow, highThen));
@@ -357,8 +358,12 @@ void vtkVolumeTransferFunctionSampler::GetChangedRange(
         a[i].Y[2] != b[i].Y[2] || a[i].Midpoint != b[i].Midpoint ||
         a[i].Sharpness != b[i].Sharpness)
       {
-        widen(i, a.size(), i > 0 ? a[i - 1].X : 0.0, i > 0 ? b[i - 1].X : 0.0,
-          i + 1 < a.size() ? a[i + 1].X : 0.0, i + 1 < b.size() ? b[i + 1].X : 0.0);
+        widen(i,
+          a.size(),
+          i > 0 ? a[i - 1].X : 0.0,
+          i > 0 ? b[i - 1].X : 0.0,
+          i + 1 < a.size() ? a[i + 1].X : 0.0,
+          i + 1 < b.size() ? b[i + 1].X : 0.0);
       }
     }
   }
@@ -368,8 +373,12 @@ void vtkVolumeTransferFunctionSampler::GetChangedRange(
   {
     if (a[i] != b[i])
     {
-      widen(i, a.size(), i > 0 ? a[i - 1] : 0.0, i > 0 ? b[i - 1] : 0.0,
-        i + 1 < a.size() ? a[i + 1] : 0.0, i + 1 < b.size() ? b[i + 1] : 0.0);
+      widen(i,
+        a.size(),
+        i > 0 ? a[i - 1] : 0.0,
+        i > 0 ? b[i - 1] : 0.0,
+        i + 1 < a.size() ? a[i + 1] : 0.0,
+        i + 1 < b.size() ? b[i + 1] : 0.0);
     }
   }
 }
