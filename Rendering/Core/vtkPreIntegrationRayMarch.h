@@ -352,24 +352,50 @@ public:
     // The path P(u) = f + b u + a u^2, u in [0, 1], over a world length, in midpoint pieces
     // whose scalar sweep is at most Tolerance times the narrowest feature within their reach
     // (vtkVolumeTransferFunctionSampler::GetLongestSweep, as the reference's pieces).
-    void Integrate(double f, double b, double a, double length, double rgba[4]) const
+    // |P'| <= max(|b|, |2a + b|) on [0, 1].
+    static double Sweep(double b, double a) { return std::max(std::abs(b), std::abs(2.0 * a + b)); }
+
+    // The values P(u) takes over [0, 1] (its ends and, inside, its vertex), widened by
+    // `widen` and against rounding.
+    void Range(double f, double b, double a, double widen, double range[2]) const
     {
-      // |P'| <= max(|b|, |2a + b|) on [0, 1].
-      const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
-      const double shortest = 1e-5; // at most 1e5 pieces
-      double transmittance = 1.0;
-      std::fill(rgba, rgba + 4, 0.0);
-      // A path whose values (its ends and vertex, widened against rounding) meet no opacity
-      // gives exactly what its pieces would: nothing.
-      double low = std::min(f, f + b + a), high = std::max(f, f + b + a);
+      range[0] = std::min(f, f + b + a);
+      range[1] = std::max(f, f + b + a);
       const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
       if (vertex > 0.0 && vertex < 1.0)
       {
-        low = std::min(low, f + vertex * (b + vertex * a));
-        high = std::max(high, f + vertex * (b + vertex * a));
+        range[0] = std::min(range[0], f + vertex * (b + vertex * a));
+        range[1] = std::max(range[1], f + vertex * (b + vertex * a));
       }
-      const double margin = 1e-12 * (std::abs(f) + std::abs(b) + std::abs(a) + this->DataRange);
-      if (this->Sampler->GetMaximumOpacity(low - margin, high + margin) <= 0.0)
+      const double margin = 1e-9 * (std::abs(f) + std::abs(b) + std::abs(a) + this->DataRange);
+      range[0] -= widen + margin;
+      range[1] += widen + margin;
+    }
+
+    // A slab's path (Eq. 2: P(u) = A u^2 + B u + sf) as (b, a) = (B, A).
+    static void SlabPath(double sf, double sm, double sb, double& b, double& a)
+    {
+      b = -3.0 * sf + 4.0 * sm - sb;
+      a = 2.0 * sf - 4.0 * sm + 2.0 * sb;
+    }
+
+    // The scalars Integrate() reads the transfer functions at for this path: its values
+    // widened by its sweep (GetLongestSweep's queries reach that far from a value).
+    void Reach(double f, double b, double a, double range[2]) const
+    {
+      this->Range(f, b, a, Sweep(b, a), range);
+    }
+
+    void Integrate(double f, double b, double a, double length, double rgba[4]) const
+    {
+      const double sweep = Sweep(b, a);
+      const double shortest = 1e-5; // at most 1e5 pieces
+      double transmittance = 1.0;
+      std::fill(rgba, rgba + 4, 0.0);
+      // A path whose values meet no opacity gives exactly what its pieces would: nothing.
+      double values[2];
+      this->Range(f, b, a, 0.0, values);
+      if (this->Sampler->GetMaximumOpacity(values[0], values[1]) <= 0.0)
       {
         return;
       }
@@ -406,9 +432,9 @@ public:
     }
     void Slab(double sf, double sm, double sb, double fraction, double length, double rgba[4]) const
     {
-      // Eq. 2: P(u) = A u^2 + B u + sf.
-      this->Integrate(
-        sf, -3.0 * sf + 4.0 * sm - sb, 2.0 * sf - 4.0 * sm + 2.0 * sb, fraction * length, rgba);
+      double b, a;
+      SlabPath(sf, sm, sb, b, a);
+      this->Integrate(sf, b, a, fraction * length, rgba);
     }
   };
 

@@ -91,26 +91,17 @@ struct ExactLookup
   March::ExactPieces Exact;
   int Order = 1;
   double Step = 1.0;
-  // The scalar interval the integration of a piece of axes v can read the transfer
-  // functions in: its path's values (ends and vertex) widened by its sweep bound, the reach of
-  // the sampler's queries (ExactPieces::Integrate).
+  // The scalars the integration of a piece of axes v reads the transfer functions at
+  // (ExactPieces::Reach of its path, as Read() makes it).
   void Reach(const float v[3], double reach[2]) const
   {
     const double sf = v[0] - 0.5 * double(v[1]), sb = v[0] + 0.5 * double(v[1]);
-    const double sm = double(v[0]) + v[2];
-    const double b = this->Order == 1 ? sb - sf : -3.0 * sf + 4.0 * sm - sb;
-    const double a = this->Order == 1 ? 0.0 : 2.0 * sf - 4.0 * sm + 2.0 * sb;
-    double low = std::min(sf, sf + b + a), high = std::max(sf, sf + b + a);
-    const double vertex = a != 0.0 ? -b / (2.0 * a) : -1.0;
-    if (vertex > 0.0 && vertex < 1.0)
+    double b = sb - sf, a = 0.0;
+    if (this->Order == 2)
     {
-      low = std::min(low, sf + vertex * (b + vertex * a));
-      high = std::max(high, sf + vertex * (b + vertex * a));
+      March::ExactPieces::SlabPath(sf, double(v[0]) + v[2], sb, b, a);
     }
-    const double sweep = std::max(std::abs(b), std::abs(2.0 * a + b));
-    const double margin = 1e-9 * (std::abs(sf) + std::abs(b) + std::abs(a) + this->Exact.DataRange);
-    reach[0] = low - sweep - margin;
-    reach[1] = high + sweep + margin;
+    this->Exact.Reach(sf, b, a, reach);
   }
   void Read(const double v[3], double fraction, double rgba[4]) const
   {
