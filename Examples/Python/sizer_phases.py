@@ -66,7 +66,10 @@ def main():
             elif args.change == "colour":
                 latency._edit_colour(scene.prop, k)
             else:
+                # The table integrates slabs of the step (segments for first order), as the
+                # mapper sets it.
                 step = scene.step_length(1.125 if k % 2 == 0 else 1.0)
+                table.SetSegmentLength(args.order * step)
             marks.clear()
             start = time.perf_counter()
             if not sizer.Choose(image, scalars, table, args.order, step):
