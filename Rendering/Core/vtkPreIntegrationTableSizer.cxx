@@ -26,6 +26,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 vtkStandardNewMacro(vtkPreIntegrationTableSizer);
@@ -133,11 +134,12 @@ struct vtkPreIntegrationTableSizer::vtkInternals
   std::vector<double> LastPerRay;                     // of the last Measure()
   std::vector<double> RayKey;                         // what the rays were computed from
   std::vector<double> ReferenceKey;                   // what their reference was computed from
-  // The reference's colour as weights of the colour nodes (per ray), for the transfer
-  // functions of ColorSampler (a copy) and the rays, range and tolerance of ColorKey.
-  std::vector<double> ColorWeights;
-  std::vector<double> ColorKey;
-  vtkNew<vtkVolumeTransferFunctionSampler> ColorSampler;
+  // The reference's cells along each ray, kept for the transfer functions of CellSampler (a
+  // copy) and the rays, range and tolerance of CellKey: an edit integrates again only the
+  // cells it reaches (vtkVolumeReferenceIntegrator::RayCells).
+  vtkVolumeReferenceIntegrator::RayCells Cells;
+  std::vector<double> CellKey;
+  vtkNew<vtkVolumeTransferFunctionSampler> CellSampler;
   // The pieces of every ray (ray r's from PieceStart[r] to PieceStart[r + 1]): they depend on
   // the volume, the rays, the order and the step, not on the transfer functions, and are kept
   // while those stay the same.
@@ -644,23 +646,39 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
   // Ground truth along them, at the reference integrator's tolerance: a coarser one puts a
   // floor under the errors measured, below which no candidate can be told from another.
   const double tolerance = this->ReferenceTolerance;
-  // After an edit of the colours alone, the rays are recoloured from their colour weights.
-  std::vector<double> colorKey = rayKey;
-  colorKey.insert(colorKey.end(), { range[0], range[1], tolerance });
-  const size_t nodes = static_cast<size_t>(sampler->GetNumberOfColorNodes());
-  const bool recolor = !reuse && reuseRays && colorKey == I.ColorKey &&
-    I.ColorWeights.size() == nodes * I.Rays.size() && sampler->IsColorEditOf(I.ColorSampler);
-  if (recolor)
+  if (!reuse)
   {
-    for (size_t r = 0; r < I.Rays.size(); ++r)
+    // The cells kept from the last reference hold for the same rays, range and tolerance
+    // outside the scalars the edit changed; colours are kept as node weights where they
+    // interpolate linearly (the same functions are a colour edit of themselves), and an edit
+    // of the colours alone then changes no cell.
+    std::vector<double> cellKey = rayKey;
+    cellKey.insert(cellKey.end(), { range[0], range[1], tolerance });
+    const int nodes = sampler->GetNumberOfColorNodes();
+    const int colorNodes = nodes <= 8 && sampler->IsColorEditOf(sampler) ? nodes : 0;
+    double changed[2];
+    const double* edit = nullptr;
+    if (reuseRays && cellKey == I.CellKey && I.Cells.ColorNodes == colorNodes &&
+      I.Cells.Values.size() == I.Rays.size())
     {
-      sampler->CombineColors(&I.ColorWeights[nodes * r], &I.Reference[4 * r]);
+      if (colorNodes > 0 && sampler->IsColorEditOf(I.CellSampler))
+      {
+        changed[0] = std::numeric_limits<double>::infinity();
+        changed[1] = -changed[0];
+      }
+      else
+      {
+        sampler->GetChangedRange(I.CellSampler, changed);
+      }
+      edit = changed;
     }
-  }
-  else if (!reuse)
-  {
-    I.ColorKey.clear();
-    I.ColorWeights.assign(nodes * I.Rays.size(), 0.0);
+    else
+    {
+      I.Cells.ColorNodes = colorNodes;
+      I.Cells.Values.assign(I.Rays.size(), {});
+      I.Cells.Kept.assign(I.Rays.size(), {});
+    }
+    I.CellKey.clear();
     std::vector<double> origins, directions;
     for (const Ray& ray : I.Rays)
     {
@@ -680,11 +698,18 @@ bool vtkPreIntegrationTableSizer::Prepare(vtkImageData* volume,
       I.Reference.data(),
       &I.AbortRequested,
       I.LowPriority,
-      I.ColorWeights.data());
-    if (!I.AbortRequested)
+      &I.Cells,
+      edit);
+    if (I.AbortRequested)
     {
-      I.ColorKey = colorKey;
-      I.ColorSampler->DeepCopy(sampler);
+      // Rays not yet begun hold the old values: drop them all.
+      I.Cells.Values.clear();
+      I.Cells.Kept.clear();
+    }
+    else
+    {
+      I.CellKey = cellKey;
+      I.CellSampler->DeepCopy(sampler);
     }
   }
   if (I.AbortRequested)

@@ -232,17 +232,17 @@ public:
    * the volume, its scalars, Seed and NumberOfRays stay the same; their pieces while the order
    * and the sample distance also do; their reference while the table's transfer functions (by
    * content, vtkVolumeTransferFunctionSampler::GetContentHash) and
-   * scalar range and ReferenceTolerance also do. An edit of the colours alone (the same
-   * opacity and node positions, colours linear between their nodes:
-   * vtkVolumeTransferFunctionSampler::IsColorEditOf) recolours the reference from each ray's
-   * colour weights instead of integrating it; the exact model's value of each piece is kept
-   * where the edit changed no scalar the piece's integration reads
-   * (vtkVolumeTransferFunctionSampler::GetChangedRange). So an edit of the transfer functions
-   * costs the reference (unless it edits colours alone), the exact model of the pieces near
-   * what it changed and the candidates, and a change of order or sample distance the pieces,
-   * the exact model and the candidates. The kept values take 4 doubles per piece and one per
-   * ray and colour node. The table is not changed; it must stay alive while Measure() is
-   * used.
+   * scalar range and ReferenceTolerance also do. After an edit of the transfer functions,
+   * the reference integrates again only the cells of the rays whose integration reads a
+   * scalar the edit changed (vtkVolumeReferenceIntegrator::RayCells,
+   * vtkVolumeTransferFunctionSampler::GetChangedRange), none for an edit of the colours alone
+   * where the colours interpolate linearly between at most 8 nodes (kept as node weights,
+   * vtkVolumeTransferFunctionSampler::IsColorEditOf); the exact model's value of each piece is
+   * kept likewise. So an edit of the transfer functions costs the cells and pieces near what
+   * it changed and the candidates, and a change of order or sample distance the pieces, the
+   * exact model and the candidates. The kept values take a byte per cell crossed and 4 to 9
+   * floats per cell that meets opacity, and 4 doubles per piece. The table is not changed;
+   * it must stay alive while Measure() is used.
    */
   bool Prepare(vtkImageData* volume,
     vtkDataArray* scalars,

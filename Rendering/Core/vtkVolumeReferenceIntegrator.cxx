@@ -465,19 +465,48 @@ public:
 
   // Integrates the ray o + t v in grid index along its walk; view is the unit world direction
   // towards the eye (used when shading).
-  // With colorWeights (unshaded), the ray's colour is also accumulated as weights of the
-  // colour nodes (vtkVolumeTransferFunctionSampler::GetColorWeights), zeroed first.
+  // Calls piece(middle, h, scalar) for the pieces of the cell segment [0, length] of profile:
+  // as fine as the narrowest transfer-function feature their own values can meet (a piece
+  // starting at scalar s and changing by at most slope h per length h meets only the features
+  // within that reach of s, so a narrow feature elsewhere in the cell's range needs fine pieces
+  // only where the profile comes near it), and at most `longest`. Returns their number.
+  template <class Piece>
+  int ForEachPiece(const vtkTrilinearRayProfile& profile,
+    double length,
+    double longest,
+    Piece&& piece) const
+  {
+    const double slope = profile.GetMaximumSlope(length);
+    const double shortest = length * 1e-6; // at most a million pieces per cell
+    int count = 0;
+    for (double t = 0.0; t < length; ++count)
+    {
+      double h = std::min(longest, length - t);
+      if (slope > 0.0)
+      {
+        const double sweep = this->Sampler->GetLongestSweep(
+          profile.Evaluate(t), this->Tolerance, this->DataRange, slope * h);
+        h = std::min(h, std::max(sweep / slope, shortest));
+      }
+      if (length - t - h < shortest)
+      {
+        h = length - t; // no sliver left over
+      }
+      const double middle = t + 0.5 * h;
+      t += h;
+      piece(middle, h, profile.Evaluate(middle));
+    }
+    return count;
+  }
+
+  // Integrates the ray o + t v in grid index along its walk; view is the unit world direction
+  // towards the eye (used when shading).
   vtkIdType Integrate(const double o[3],
     const double v[3],
     vtkGridRayTraversal& walk,
     double rgba[4],
-    const double view[3] = nullptr,
-    double* colorWeights = nullptr) const
+    const double view[3] = nullptr) const
   {
-    if (colorWeights)
-    {
-      std::fill(colorWeights, colorWeights + this->Sampler->GetNumberOfColorNodes(), 0.0);
-    }
     rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
     double transmittance = 1.0;
     vtkIdType pieces = 0;
@@ -499,12 +528,6 @@ public:
       CellEntry(o, v, t0, cell, entry);
       vtkTrilinearRayProfile profile;
       profile.Set(corner, entry, v);
-      // Pieces as fine as the narrowest transfer-function feature their own values can meet:
-      // a piece starting at scalar s and changing by at most slope h per length h meets only
-      // the features within that reach of s, so a narrow feature elsewhere in the cell's range
-      // needs fine pieces only where the profile comes near it. One piece where both functions
-      // are constant over the reach.
-      const double slope = profile.GetMaximumSlope(length);
       double longest = length; // the longest piece
       double gradients[8][3], u0[3];
       CellEntry(o, v, t0, cell, u0);
@@ -519,51 +542,30 @@ public:
         longest =
           length / std::max(std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6), 1.0);
       }
-      const double shortest = length * 1e-6; // at most a million pieces per cell
-      int count = 0;
-      for (double t = 0.0; t < length; ++count)
-      {
-        double h = std::min(longest, length - t);
-        if (slope > 0.0)
+      pieces += this->ForEachPiece(profile,
+        length,
+        longest,
+        [&](double middle, double h, double scalar)
         {
-          const double sweep = this->Sampler->GetLongestSweep(
-            profile.Evaluate(t), this->Tolerance, this->DataRange, slope * h);
-          h = std::min(h, std::max(sweep / slope, shortest));
-        }
-        if (length - t - h < shortest)
-        {
-          h = length - t; // no sliver left over
-        }
-        const double middle = t + 0.5 * h;
-        t += h;
-        double sample[4];
-        const double scalar = profile.Evaluate(middle);
-        this->Sampler->Evaluate(scalar, sample);
-        if (shade && sample[3] > 0.0)
-        {
-          const double u[3] = {
-            u0[0] + middle * v[0], u0[1] + middle * v[1], u0[2] + middle * v[2]
-          };
-          double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
-          InterpolateNormal(gradients, u, normal);
-          this->Shading->ShadePoint(normal, view, colour, sample);
-        }
-        // Exact for a piece of constant colour and extinction.
-        const double alpha = -std::expm1(-sample[3] * h);
-        const double weight = transmittance * alpha;
-        rgba[0] += weight * sample[0];
-        rgba[1] += weight * sample[1];
-        rgba[2] += weight * sample[2];
-        if (colorWeights && !shade)
-        {
-          double w[2];
-          const int k = this->Sampler->GetColorWeights(scalar, w);
-          colorWeights[k] += weight * w[0];
-          colorWeights[k + (w[1] != 0.0 ? 1 : 0)] += weight * w[1];
-        }
-        transmittance *= 1.0 - alpha;
-      }
-      pieces += count;
+          double sample[4];
+          this->Sampler->Evaluate(scalar, sample);
+          if (shade && sample[3] > 0.0)
+          {
+            const double u[3] = {
+              u0[0] + middle * v[0], u0[1] + middle * v[1], u0[2] + middle * v[2]
+            };
+            double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
+            InterpolateNormal(gradients, u, normal);
+            this->Shading->ShadePoint(normal, view, colour, sample);
+          }
+          // Exact for a piece of constant colour and extinction.
+          const double alpha = -std::expm1(-sample[3] * h);
+          const double weight = transmittance * alpha;
+          rgba[0] += weight * sample[0];
+          rgba[1] += weight * sample[1];
+          rgba[2] += weight * sample[2];
+          transmittance *= 1.0 - alpha;
+        });
       if (transmittance < this->Cutoff)
       {
         break;
@@ -571,6 +573,157 @@ public:
     }
     rgba[3] = 1.0 - transmittance;
     return pieces;
+  }
+
+  // Integrate() cell by cell from the cells' own values, in float, kept in `values` and
+  // `kept` (this ray's RayCells): a cell crossed before whose reach (its corner range widened
+  // by the profile's sweep over the cell: what its pieces read) misses [changed[0],
+  // changed[1]] keeps its values, the others are integrated again (every one without
+  // changed). Unshaded.
+  void IntegrateCells(const double o[3],
+    const double v[3],
+    vtkGridRayTraversal& walk,
+    double rgba[4],
+    int colorNodes,
+    const double* changed,
+    std::vector<float>& values,
+    std::vector<unsigned char>& kept) const
+  {
+    const size_t stride = 1 + (colorNodes > 0 ? colorNodes : 3);
+    std::vector<float> newValues;
+    std::vector<unsigned char> newKept;
+    newValues.reserve(values.size());
+    newKept.reserve(kept.size());
+    std::vector<double> weights(colorNodes), nodeColors(3 * colorNodes);
+    for (int k = 0; k < colorNodes; ++k)
+    {
+      std::fill(weights.begin(), weights.end(), 0.0);
+      weights[k] = 1.0;
+      this->Sampler->CombineColors(weights.data(), &nodeColors[3 * k]);
+    }
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
+    double transmittance = 1.0;
+    // Front to back with a cell's float values (the colour from the nodes' colours weighted),
+    // kept or new alike; false once the ray stops.
+    auto composite = [&](const float* value)
+    {
+      double colour[3] = { 0.0, 0.0, 0.0 };
+      if (colorNodes > 0)
+      {
+        for (int k = 0; k < colorNodes; ++k)
+        {
+          for (int c = 0; c < 3; ++c)
+          {
+            colour[c] += value[1 + k] * nodeColors[3 * k + c];
+          }
+        }
+      }
+      else
+      {
+        std::copy(value + 1, value + 4, colour);
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        rgba[c] += transmittance * colour[c];
+      }
+      transmittance *= value[0];
+      return transmittance >= this->Cutoff;
+    };
+    if (changed && !(changed[0] <= changed[1]) && !kept.empty())
+    {
+      // Nothing a cell reads changed: the kept values alone, where the ray stopped before.
+      for (size_t at = 0; at < values.size() && composite(values.data() + at); at += stride)
+      {
+      }
+      rgba[3] = 1.0 - transmittance;
+      return;
+    }
+    size_t crossed = 0, next = 0; // cells crossed, and the next kept values
+    int cell[3];
+    double t0, t1, corner[8];
+    while (walk.Next(cell, t0, t1))
+    {
+      const double length = t1 - t0;
+      if (!(length > 0.0) || !this->GetCorners(cell, corner))
+      {
+        continue;
+      }
+      const auto range = std::minmax_element(corner, corner + 8);
+      double entry[3];
+      CellEntry(o, v, t0, cell, entry);
+      vtkTrilinearRayProfile profile;
+      profile.Set(corner, entry, v);
+      const double sweep = profile.GetMaximumSlope(length) * length;
+      const double margin = 1e-9 * (std::abs(*range.first) + std::abs(*range.second) + sweep);
+      const bool before = crossed < kept.size();
+      const bool had = before && kept[crossed] != 0;
+      const bool same = before && changed &&
+        (*range.second + sweep + margin < changed[0] || *range.first - sweep - margin > changed[1]);
+      ++crossed;
+      const size_t at = newValues.size();
+      if (same)
+      {
+        if (had)
+        {
+          newValues.insert(
+            newValues.end(), values.begin() + next * stride, values.begin() + (next + 1) * stride);
+        }
+        newKept.push_back(had ? 1 : 0);
+      }
+      else if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
+      {
+        newKept.push_back(0); // exactly empty
+      }
+      else
+      {
+        // The cell alone, from its entry: transmittance, then colour (or its node weights).
+        double cellTransmittance = 1.0, colour[3] = { 0.0, 0.0, 0.0 };
+        std::fill(weights.begin(), weights.end(), 0.0);
+        this->ForEachPiece(profile,
+          length,
+          length,
+          [&](double, double h, double scalar)
+          {
+            double sample[4];
+            this->Sampler->Evaluate(scalar, sample);
+            const double alpha = -std::expm1(-sample[3] * h);
+            const double weight = cellTransmittance * alpha;
+            if (colorNodes > 0)
+            {
+              double w[2];
+              const int k = this->Sampler->GetColorWeights(scalar, w);
+              weights[k] += weight * w[0];
+              weights[std::min(k + 1, colorNodes - 1)] += weight * w[1];
+            }
+            else
+            {
+              for (int c = 0; c < 3; ++c)
+              {
+                colour[c] += weight * sample[c];
+              }
+            }
+            cellTransmittance *= 1.0 - alpha;
+          });
+        newValues.push_back(static_cast<float>(cellTransmittance));
+        if (colorNodes > 0)
+        {
+          newValues.insert(newValues.end(), weights.begin(), weights.end());
+        }
+        else
+        {
+          newValues.insert(newValues.end(), colour, colour + 3);
+        }
+        newKept.push_back(1);
+      }
+      next += had ? 1 : 0;
+      if (newValues.size() > at && !composite(newValues.data() + at))
+      {
+        break;
+      }
+    }
+    rgba[3] = 1.0 - transmittance;
+    values.swap(newValues);
+    kept.swap(newKept);
   }
 };
 }
@@ -789,7 +942,8 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
   double* rgba,
   const std::atomic<bool>* abort,
   bool lowPriority,
-  double* colorWeights)
+  RayCells* cells,
+  const double* changed)
 {
   VolumeGrid grid;
   grid.Values = values;
@@ -805,19 +959,23 @@ void vtkVolumeReferenceIntegrator::IntegrateRays(const vtkVolumeScalarView& valu
       }
       vtkGridRayTraversal walk;
       std::fill(rgba + 4 * r, rgba + 4 * r + 4, 0.0);
-      if (colorWeights)
-      {
-        const vtkIdType nodes = sampler->GetNumberOfColorNodes();
-        std::fill(colorWeights + r * nodes, colorWeights + (r + 1) * nodes, 0.0);
-      }
       if (walk.Initialize(grid.Dims, origins + 3 * r, directions + 3 * r, 0.0, VTK_DOUBLE_MAX))
       {
-        caster.Integrate(origins + 3 * r,
-          directions + 3 * r,
-          walk,
-          rgba + 4 * r,
-          nullptr,
-          colorWeights ? colorWeights + r * sampler->GetNumberOfColorNodes() : nullptr);
+        if (cells)
+        {
+          caster.IntegrateCells(origins + 3 * r,
+            directions + 3 * r,
+            walk,
+            rgba + 4 * r,
+            cells->ColorNodes,
+            changed,
+            cells->Values[r],
+            cells->Kept[r]);
+        }
+        else
+        {
+          caster.Integrate(origins + 3 * r, directions + 3 * r, walk, rgba + 4 * r);
+        }
       }
     }
   };

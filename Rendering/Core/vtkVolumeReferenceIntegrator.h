@@ -51,6 +51,7 @@
 #include "vtkVolumeScalarView.h" // For IntegrateRays
 
 #include <atomic> // For IntegrateRays
+#include <vector> // For RayCells
 
 class vtkVolumeShadingModel;
 class vtkVolumeTransferFunctionSampler;
@@ -174,6 +175,19 @@ public:
 
 #ifndef __VTK_WRAP__
   /**
+   * What IntegrateRays() keeps of each ray from one call to the next (see there): per ray,
+   * one byte per cell crossed before the ray stopped (1 where the cell meets opacity), and
+   * the values of those cells in order: transmittance, then ColorNodes weights (ColorNodes
+   * > 0) or RGB.
+   */
+  struct RayCells
+  {
+    int ColorNodes = 0;
+    std::vector<std::vector<float>> Values;
+    std::vector<std::vector<unsigned char>> Kept;
+  };
+
+  /**
    * The composite integral along arbitrary rays, for estimates that need the ground truth
    * off a camera's pixels (vtkPreIntegrationTableSizer). Ray r is o + t v, o = origins[3 r],
    * v = directions[3 r], in the 0-based continuous grid index of a volume whose points hold
@@ -184,12 +198,19 @@ public:
    * than dataRange count as that wide); rays stop when their transmittance falls below
    * cutoff. The sampler must be prepared. Multithreaded with vtkSMPTools, or with lowPriority
    * in threads of low priority (vtkLowPriorityThreads). When abort is given and becomes
-   * true, the rays not yet begun are left out (their rgba is not written). With
-   * colorWeights (sampler->GetNumberOfColorNodes() per ray), each ray's colour is also given
-   * as weights of the colour nodes (its sum of vtkVolumeTransferFunctionSampler::
-   * GetColorWeights() times the pieces' weights): where the colours interpolate linearly, a
-   * colour edit (vtkVolumeTransferFunctionSampler::IsColorEditOf) recolours the rays by
-   * CombineColors() without integrating them again.
+   * true, the rays not yet begun are left out (their rgba is not written).
+   *
+   * With cells (one entry per ray in its Values and Kept), the rays are composited cell by
+   * cell from each cell's own values (transmittance and colour from its entry, in float), and
+   * the values are kept there for the next call on the same rays and volume: a cell crossed
+   * before keeps its values unless its reach (its corner range widened by its profile's sweep,
+   * all its integration reads) meets [changed[0], changed[1]] (every cell is integrated again
+   * without changed; none with an empty range). With ColorNodes > 0 a cell's colour is kept
+   * as weights of that many colour nodes (vtkVolumeTransferFunctionSampler::GetColorWeights;
+   * the colours must interpolate linearly) and composited from the nodes' present colours,
+   * so that a colour edit (vtkVolumeTransferFunctionSampler::IsColorEditOf) integrates
+   * nothing. A call aborted part way leaves the rays not yet begun with the old values: the
+   * caller then drops them.
    */
   static void IntegrateRays(const vtkVolumeScalarView& values,
     const int dims[3],
@@ -203,7 +224,8 @@ public:
     double* rgba,
     const std::atomic<bool>* abort = nullptr,
     bool lowPriority = false,
-    double* colorWeights = nullptr);
+    RayCells* cells = nullptr,
+    const double* changed = nullptr);
 #endif
 
 protected:

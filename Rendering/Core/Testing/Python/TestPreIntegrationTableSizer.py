@@ -32,7 +32,10 @@ from the same table state: the judge must find the screened choice's error withi
 choice's, with the same confidence rule. In the first four cases every candidate measured on all
 the rays (not dropped by the screening) must measure, bit for bit, as the candidate measured
 alone: with the entries its centre size shares, with those kept from the Choose() before an edit
-of the opacity, and under small axis and memory limits.
+of the opacity, and under small axis and memory limits; and after a random edit of a colour node
+and of an opacity node, the sizer, which keeps its reference's cells and its exact model's pieces
+where the edit does not reach, must measure every candidate and the exact model as a fresh sizer
+does, bit for bit.
 """
 
 import math
@@ -221,17 +224,17 @@ def alone_mismatches(sizer, table):
     return wrong
 
 
-def colour_edit_mismatch(sizer, table, image, order, step, colour, rng):
-    """Edit one node of colour, Choose() with sizer (which kept its reference) and with a
-    fresh sizer from the same table state, and restore the node: None when both measure every
-    candidate and the exact model within 1e-9 (relative), else what differs."""
+def edit_mismatch(sizer, table, image, order, step, function, edit):
+    """Edit one node of function (its values per edit(node, rng)), Choose() with sizer (which
+    kept its reference's cells and the exact model's pieces) and with a fresh sizer from the
+    same table state, and restore the node: None when both measure every candidate and the
+    exact model alike (the kept values are the same integrals), else what differs."""
     scalars = image.GetPointData().GetScalars()
-    node = [0.0] * 6
-    index = int(rng.integers(colour.GetSize()))
-    colour.GetNodeValue(index, node)
-    edited = list(node)
-    edited[1:4] = [float(v) for v in rng.uniform(0.0, 1.0, 3)]
-    colour.SetNodeValue(index, edited)
+    size = 6 if function.IsA("vtkColorTransferFunction") else 4
+    node = [0.0] * size
+    index = int(edit.rng.integers(function.GetSize()))
+    function.GetNodeValue(index, node)
+    function.SetNodeValue(index, edit(list(node)))
     state = table_state(table)
     measured = []
     try:
@@ -250,18 +253,31 @@ def colour_edit_mismatch(sizer, table, image, order, step, colour, rng):
             measured.append((candidates, one.GetExactError(), table_state(table)))
     finally:
         sizer.SetMeasureExactModel(False)
-        colour.SetNodeValue(index, node)
+        function.SetNodeValue(index, node)
         set_table_state(table, state)
     (kept, kept_exact, kept_state), (new, new_exact, new_state) = measured
     if kept_state != new_state or [k[0] for k in kept] != [n[0] for n in new]:
         return "chosen %s and %s, candidates %d and %d" % (kept_state, new_state, len(kept),
                                                             len(new))
-    close = lambda a, b: abs(a - b) <= 1e-9 * max(abs(a), abs(b))
     for (sizes, a), (_, b) in zip(kept, new):
-        if not close(a, b):
+        if a != b:
             return "candidate %s: %.17g and %.17g" % (sizes, a, b)
-    return None if close(kept_exact, new_exact) else "exact %.17g and %.17g" % (kept_exact,
-                                                                              new_exact)
+    return None if kept_exact == new_exact else "exact %.17g and %.17g" % (kept_exact, new_exact)
+
+
+class NodeEdit:
+    """A random edit of a node's values: its colour (colour nodes) or its opacity."""
+
+    def __init__(self, rng, colour):
+        self.rng = rng
+        self.colour = colour
+
+    def __call__(self, node):
+        if self.colour:
+            node[1:4] = [float(v) for v in self.rng.uniform(0.0, 1.0, 3)]
+        else:
+            node[1] = float(self.rng.uniform(0.0, 1.0))
+        return node
 
 
 arguments = sys.argv[1:]
@@ -328,13 +344,18 @@ for case in CASE_NUMBERS:
                         "the kept entries as alone (%s)" % (
                             seed, order, sizer.GetNumberOfCandidates(), wrong[:3]))
             opacity.SetNodeValue(peak, nodes[peak])
-            # An edit of one colour node's colour: the sizer recolours its rays' reference from
-            # their colour weights instead of integrating them; a fresh sizer (from the same
-            # table state) must measure every candidate and the exact model alike.
-            mismatch = colour_edit_mismatch(
-                sizer, table, image, order, step, prop.GetRGBTransferFunction(), rng)
-            c.check(mismatch is None, "seed %d order %d: after a colour edit, the kept and a "
-                    "fresh sizer measure alike (%s)" % (seed, order, mismatch))
+            # An edit of one colour node's colour, then of one opacity node's opacity: the
+            # sizer integrates again only the reference's cells and the exact model's pieces
+            # the edit reaches (none of the cells for colours kept as node weights); a fresh
+            # sizer (from the same table state) must measure every candidate and the exact
+            # model alike, bit for bit.
+            for function, colour in ((prop.GetRGBTransferFunction(), True),
+                                     (prop.GetScalarOpacity(), False)):
+                mismatch = edit_mismatch(sizer, table, image, order, step, function,
+                                         NodeEdit(rng, colour))
+                c.check(mismatch is None, "seed %d order %d: after an edit of a %s node, the "
+                        "kept and a fresh sizer measure alike, bit for bit (%s)" % (
+                            seed, order, "colour" if colour else "opacity", mismatch))
             # Axes cut to a size limit and a small memory limit: candidates off the shared grid
             # and levels without one.
             small = hovr.vtkPreIntegrationTableSizer()
