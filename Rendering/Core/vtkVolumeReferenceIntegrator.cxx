@@ -465,6 +465,24 @@ public:
 
   // Integrates the ray o + t v in grid index along its walk; view is the unit world direction
   // towards the eye (used when shading).
+  // Calls cell(cell, t0, length, corner) for each cell the walk crosses with a length and
+  // finite corners, until it returns false: the cells a ray integrates, and those RayCells
+  // counts (kept values stay aligned with the cells only while both walks skip the same).
+  template <class Cell>
+  void ForEachCell(vtkGridRayTraversal& walk, Cell&& body) const
+  {
+    int cell[3];
+    double t0, t1, corner[8];
+    while (walk.Next(cell, t0, t1))
+    {
+      const double length = t1 - t0;
+      if (length > 0.0 && this->GetCorners(cell, corner) && !body(cell, t0, length, corner))
+      {
+        return;
+      }
+    }
+  }
+
   // Calls piece(middle, h, scalar) for the pieces of the cell segment [0, length] of profile:
   // as fine as the narrowest transfer-function feature their own values can meet (a piece
   // starting at scalar s and changing by at most slope h per length h meets only the features
@@ -510,67 +528,58 @@ public:
     rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0;
     double transmittance = 1.0;
     vtkIdType pieces = 0;
-    int cell[3];
-    double t0, t1, corner[8];
-    while (walk.Next(cell, t0, t1))
-    {
-      const double length = t1 - t0;
-      if (!(length > 0.0) || !this->GetCorners(cell, corner))
+    this->ForEachCell(walk,
+      [&](const int cell[3], double t0, double length, const double corner[8])
       {
-        continue;
-      }
-      const auto range = std::minmax_element(corner, corner + 8);
-      if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
-      {
-        continue; // The interpolant stays within the corner range: exactly empty.
-      }
-      double entry[3];
-      CellEntry(o, v, t0, cell, entry);
-      vtkTrilinearRayProfile profile;
-      profile.Set(corner, entry, v);
-      double longest = length; // the longest piece
-      double gradients[8][3], u0[3];
-      CellEntry(o, v, t0, cell, u0);
-      const bool shade = this->Shading && view;
-      if (shade)
-      {
-        // Also as fine as the lighting's narrowest lobe where the normals turn: the turn
-        // along the piece is at most the corners' spread times the piece's share of a cell.
-        const double spread = this->CornerGradients(cell, gradients);
-        const double share =
-          std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
-        longest =
-          length / std::max(std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6), 1.0);
-      }
-      pieces += this->ForEachPiece(profile,
-        length,
-        longest,
-        [&](double middle, double h, double scalar)
+        const auto range = std::minmax_element(corner, corner + 8);
+        if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
         {
-          double sample[4];
-          this->Sampler->Evaluate(scalar, sample);
-          if (shade && sample[3] > 0.0)
+          return true; // The interpolant stays within the corner range: exactly empty.
+        }
+        double entry[3];
+        CellEntry(o, v, t0, cell, entry);
+        vtkTrilinearRayProfile profile;
+        profile.Set(corner, entry, v);
+        double longest = length; // the longest piece
+        double gradients[8][3], u0[3];
+        CellEntry(o, v, t0, cell, u0);
+        const bool shade = this->Shading && view;
+        if (shade)
+        {
+          // Also as fine as the lighting's narrowest lobe where the normals turn: the turn
+          // along the piece is at most the corners' spread times the piece's share of a cell.
+          const double spread = this->CornerGradients(cell, gradients);
+          const double share =
+            std::min(length * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0);
+          longest = length /
+            std::max(std::min(std::ceil(spread * share * this->PiecesPerRadian), 1e6), 1.0);
+        }
+        pieces += this->ForEachPiece(profile,
+          length,
+          longest,
+          [&](double middle, double h, double scalar)
           {
-            const double u[3] = {
-              u0[0] + middle * v[0], u0[1] + middle * v[1], u0[2] + middle * v[2]
-            };
-            double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
-            InterpolateNormal(gradients, u, normal);
-            this->Shading->ShadePoint(normal, view, colour, sample);
-          }
-          // Exact for a piece of constant colour and extinction.
-          const double alpha = -std::expm1(-sample[3] * h);
-          const double weight = transmittance * alpha;
-          rgba[0] += weight * sample[0];
-          rgba[1] += weight * sample[1];
-          rgba[2] += weight * sample[2];
-          transmittance *= 1.0 - alpha;
-        });
-      if (transmittance < this->Cutoff)
-      {
-        break;
-      }
-    }
+            double sample[4];
+            this->Sampler->Evaluate(scalar, sample);
+            if (shade && sample[3] > 0.0)
+            {
+              const double u[3] = {
+                u0[0] + middle * v[0], u0[1] + middle * v[1], u0[2] + middle * v[2]
+              };
+              double normal[3], colour[3] = { sample[0], sample[1], sample[2] };
+              InterpolateNormal(gradients, u, normal);
+              this->Shading->ShadePoint(normal, view, colour, sample);
+            }
+            // Exact for a piece of constant colour and extinction.
+            const double alpha = -std::expm1(-sample[3] * h);
+            const double weight = transmittance * alpha;
+            rgba[0] += weight * sample[0];
+            rgba[1] += weight * sample[1];
+            rgba[2] += weight * sample[2];
+            transmittance *= 1.0 - alpha;
+          });
+        return transmittance >= this->Cutoff;
+      });
     rgba[3] = 1.0 - transmittance;
     return pieces;
   }
@@ -639,88 +648,81 @@ public:
       return;
     }
     size_t crossed = 0, next = 0; // cells crossed, and the next kept values
-    int cell[3];
-    double t0, t1, corner[8];
-    while (walk.Next(cell, t0, t1))
-    {
-      const double length = t1 - t0;
-      if (!(length > 0.0) || !this->GetCorners(cell, corner))
+    this->ForEachCell(walk,
+      [&](const int cell[3], double t0, double length, const double corner[8])
       {
-        continue;
-      }
-      const auto range = std::minmax_element(corner, corner + 8);
-      double entry[3];
-      CellEntry(o, v, t0, cell, entry);
-      vtkTrilinearRayProfile profile;
-      profile.Set(corner, entry, v);
-      const double sweep = profile.GetMaximumSlope(length) * length;
-      const double margin = 1e-9 * (std::abs(*range.first) + std::abs(*range.second) + sweep);
-      const bool before = crossed < kept.size();
-      const bool had = before && kept[crossed] != 0;
-      const bool same = before && changed &&
-        (*range.second + sweep + margin < changed[0] || *range.first - sweep - margin > changed[1]);
-      ++crossed;
-      const size_t at = newValues.size();
-      if (same)
-      {
-        if (had)
+        const auto range = std::minmax_element(corner, corner + 8);
+        double entry[3];
+        CellEntry(o, v, t0, cell, entry);
+        vtkTrilinearRayProfile profile;
+        profile.Set(corner, entry, v);
+        const double sweep = profile.GetMaximumSlope(length) * length;
+        const double margin = 1e-9 * (std::abs(*range.first) + std::abs(*range.second) + sweep);
+        const bool before = crossed < kept.size();
+        const bool had = before && kept[crossed] != 0;
+        const bool same = before && changed &&
+          (*range.second + sweep + margin < changed[0] ||
+            *range.first - sweep - margin > changed[1]);
+        ++crossed;
+        const size_t at = newValues.size();
+        if (same)
         {
-          newValues.insert(
-            newValues.end(), values.begin() + next * stride, values.begin() + (next + 1) * stride);
-        }
-        newKept.push_back(had ? 1 : 0);
-      }
-      else if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
-      {
-        newKept.push_back(0); // exactly empty
-      }
-      else
-      {
-        // The cell alone, from its entry: transmittance, then colour (or its node weights).
-        double cellTransmittance = 1.0, colour[3] = { 0.0, 0.0, 0.0 };
-        std::fill(weights.begin(), weights.end(), 0.0);
-        this->ForEachPiece(profile,
-          length,
-          length,
-          [&](double, double h, double scalar)
+          if (had)
           {
-            double sample[4];
-            this->Sampler->Evaluate(scalar, sample);
-            const double alpha = -std::expm1(-sample[3] * h);
-            const double weight = cellTransmittance * alpha;
-            if (colorNodes > 0)
-            {
-              double w[2];
-              const int k = this->Sampler->GetColorWeights(scalar, w);
-              weights[k] += weight * w[0];
-              weights[std::min(k + 1, colorNodes - 1)] += weight * w[1];
-            }
-            else
-            {
-              for (int c = 0; c < 3; ++c)
-              {
-                colour[c] += weight * sample[c];
-              }
-            }
-            cellTransmittance *= 1.0 - alpha;
-          });
-        newValues.push_back(static_cast<float>(cellTransmittance));
-        if (colorNodes > 0)
+            newValues.insert(newValues.end(),
+              values.begin() + next * stride,
+              values.begin() + (next + 1) * stride);
+          }
+          newKept.push_back(had ? 1 : 0);
+        }
+        else if (this->Sampler->GetMaximumOpacity(*range.first, *range.second) <= 0.0)
         {
-          newValues.insert(newValues.end(), weights.begin(), weights.end());
+          newKept.push_back(0); // exactly empty
         }
         else
         {
-          newValues.insert(newValues.end(), colour, colour + 3);
+          // The cell alone, from its entry: transmittance, then colour (or its node weights).
+          double cellTransmittance = 1.0, colour[3] = { 0.0, 0.0, 0.0 };
+          std::fill(weights.begin(), weights.end(), 0.0);
+          this->ForEachPiece(profile,
+            length,
+            length,
+            [&](double, double h, double scalar)
+            {
+              double sample[4];
+              this->Sampler->Evaluate(scalar, sample);
+              const double alpha = -std::expm1(-sample[3] * h);
+              const double weight = cellTransmittance * alpha;
+              if (colorNodes > 0)
+              {
+                double w[2];
+                const int k = this->Sampler->GetColorWeights(scalar, w);
+                weights[k] += weight * w[0];
+                weights[std::min(k + 1, colorNodes - 1)] += weight * w[1];
+              }
+              else
+              {
+                for (int c = 0; c < 3; ++c)
+                {
+                  colour[c] += weight * sample[c];
+                }
+              }
+              cellTransmittance *= 1.0 - alpha;
+            });
+          newValues.push_back(static_cast<float>(cellTransmittance));
+          if (colorNodes > 0)
+          {
+            newValues.insert(newValues.end(), weights.begin(), weights.end());
+          }
+          else
+          {
+            newValues.insert(newValues.end(), colour, colour + 3);
+          }
+          newKept.push_back(1);
         }
-        newKept.push_back(1);
-      }
-      next += had ? 1 : 0;
-      if (newValues.size() > at && !composite(newValues.data() + at))
-      {
-        break;
-      }
-    }
+        next += had ? 1 : 0;
+        return newValues.size() == at || composite(newValues.data() + at);
+      });
     rgba[3] = 1.0 - transmittance;
     values.swap(newValues);
     kept.swap(newKept);
