@@ -123,9 +123,12 @@ bool vtkPreIntegrationTable::Update()
     this->BuildTable();
     if (this->BuildAborted)
     {
-      this->Table->Initialize();
       this->BuildKey.clear();
-      this->TableReleased();
+      if (!this->KeepsAbortedBuild())
+      {
+        this->Table->Initialize();
+        this->TableReleased();
+      }
       vtkErrorMacro("The build of the pre-integration table was aborted (AbortBuild).");
       return false;
     }

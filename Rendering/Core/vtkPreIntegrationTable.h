@@ -204,6 +204,10 @@ protected:
   // keeps what the entries were built from forgets it.
   virtual void TableReleased() {}
 
+  // Whether an aborted BuildTable() left entries worth keeping (a subclass that knows which of
+  // them the next build must integrate again): Update() then keeps the table.
+  virtual bool KeepsAbortedBuild() const { return false; }
+
   // Appends everything the entries depend on (the transfer functions by content, the range,
   // the size, the segment length, ...) to key: a table whose key is the last build's needs no
   // build. Subclasses append their own settings.

@@ -116,6 +116,12 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
   vtkNew<vtkPreIntegrationTableSizer> Sizer;
   vtkNew<vtkSecondOrderPreIntegrationTable> Measured;
   vtkNew<vtkCallbackCommand> ErrorCatcher;
+  // Entries the next provisional table starts from, so that it integrates only those that read
+  // what the change reached: the caller's, taken at a request while its table held the kept
+  // sizes; else those of the provisional table of a request stopped by a newer one (its build
+  // stopped part way, or done and perhaps taken), as in a drag, whose frames draw interim
+  // tables. Guarded by Mutex.
+  vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Spare;
 
   static void CatchError(vtkObject*, unsigned long, void* clientData, void* callData)
   {
@@ -192,18 +198,34 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     this->Sizer->SetLowPriority(job.LowPriority);
     this->Sizer->CopySettings(job.Settings);
     vtkSmartPointer<vtkSecondOrderPreIntegrationTable> provisional;
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      provisional = job.Provisional && job.BuildEntries ? this->Spare : nullptr;
+      this->Spare = nullptr;
+    }
+    // Stopped by a newer request: the provisional table's entries are kept for it, unless it
+    // gave the caller's.
+    auto keep = [&]()
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      if (stopped && !this->Spare)
+      {
+        this->Spare = provisional;
+      }
+    };
     if (job.Provisional && job.BuildEntries)
     {
       const double ranges[2] = { job.KeptRanges[0], job.KeptRanges[1] };
-      provisional = this->Build(job, job.KeptSizes, ranges, job.KeptPrefilter, stopped);
-      if (!provisional)
+      if (!this->Build(job, job.KeptSizes, ranges, job.KeptPrefilter, stopped, provisional))
       {
+        keep();
         return nullptr;
       }
       std::lock_guard<std::mutex> lock(this->Mutex);
       if (job.Stopped && *job.Stopped)
       {
         stopped = true;
+        this->Spare = this->Spare ? this->Spare : provisional;
         return nullptr;
       }
       this->Building = nullptr;
@@ -215,6 +237,7 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     if (!this->Sizer->Choose(job.Volume, job.Scalars, measured, job.Order, job.SampleDistance))
     {
       stopped = this->Sizer->GetAborted();
+      keep();
       return nullptr;
     }
     const int sizes[3] = { measured->GetTableSize(),
@@ -232,20 +255,27 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
       }
       return vtkSmartPointer<vtkSecondOrderPreIntegrationTable>(measured);
     }
-    return this->Build(job, sizes, ranges, measured->GetPrefilter(), stopped);
+    vtkSmartPointer<vtkSecondOrderPreIntegrationTable> table;
+    return this->Build(job, sizes, ranges, measured->GetPrefilter(), stopped, table) ? table
+                                                                                      : nullptr;
   }
 
-  // The table of a job at the given sizes, chord and deviation ranges and prefilter, its entries
-  // built on the CPU when the job asks for them; null on failure or when stopped.
-  vtkSmartPointer<vtkSecondOrderPreIntegrationTable> Build(const Job& job,
+  // Sets table (a new one when null, else one whose entries it starts from) to the job's table
+  // at the given sizes, chord and deviation ranges and prefilter, and builds its entries on
+  // the CPU when the job asks for them; false on failure or when stopped.
+  bool Build(const Job& job,
     const int sizes[3],
     const double ranges[2],
     bool prefilter,
-    bool& stopped)
+    bool& stopped,
+    vtkSmartPointer<vtkSecondOrderPreIntegrationTable>& table)
   {
     vtkVolumeTransferFunctionSampler* sampler = this->Measured->GetSampler();
-    auto table = vtkSmartPointer<vtkSecondOrderPreIntegrationTable>::New();
-    table->AddObserver(vtkCommand::ErrorEvent, this->ErrorCatcher);
+    if (!table)
+    {
+      table = vtkSmartPointer<vtkSecondOrderPreIntegrationTable>::New();
+      table->AddObserver(vtkCommand::ErrorEvent, this->ErrorCatcher);
+    }
     vtkVolumeTransferFunctionSampler* own = table->GetSampler();
     own->SetFromSampler(sampler);
     table->SetScalarRange(job.Range[0], job.Range[1]);
@@ -268,17 +298,17 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
         if (job.Stopped && *job.Stopped)
         {
           stopped = true; // superseded while measuring
-          return nullptr;
+          return false;
         }
         this->Building = table;
       }
       if (!table->Update())
       {
         stopped = table->GetAbortBuild();
-        return nullptr;
+        return false;
       }
     }
-    return table;
+    return true;
   }
 };
 
@@ -337,6 +367,17 @@ vtkIdType vtkPreIntegrationTableRefiner::Request(vtkImageData* volume,
   job->KeptRanges[0] = table->GetChordRange();
   job->KeptRanges[1] = table->GetDeviationRange();
   job->KeptPrefilter = table->GetPrefilter();
+  if (job->Provisional)
+  {
+    // The caller draws other sizes until the result comes: its entries move to the worker.
+    auto seed = vtkSmartPointer<vtkSecondOrderPreIntegrationTable>::New();
+    seed->AddObserver(vtkCommand::ErrorEvent, I.ErrorCatcher);
+    if (seed->TakeEntries(table))
+    {
+      std::lock_guard<std::mutex> lock(I.Mutex);
+      I.Spare = seed;
+    }
+  }
   job->UnitDistance = sampler->GetScalarOpacityUnitDistance();
   job->MaximumOpacity = sampler->GetMaximumOpacity();
   table->GetScalarRange(job->Range);
@@ -387,6 +428,7 @@ void vtkPreIntegrationTableRefiner::Cancel()
   vtkInternals& I = *this->Internals;
   I.Worker.Cancel();
   std::lock_guard<std::mutex> lock(I.Mutex);
+  I.Spare = nullptr;
   I.Result = nullptr;
   I.ResultId = 0;
   I.ResultProvisional = false;

@@ -76,7 +76,11 @@ public:
    * at this order (1 or 2) and sample distance, its deviation axis at most deviationLimit
    * entries, built on the CPU when buildEntries. With provisional (and buildEntries), a table
    * of table's present sizes, ranges and prefilter is built first and given as a provisional
-   * result (IsProvisional). With drawn, the caller draws table's present sizes itself (it
+   * result (IsProvisional); when table holds a complete build at those settings, its entries
+   * move to the worker (vtkSecondOrderPreIntegrationTable::TakeEntries: table is left without
+   * them, as the caller draws other sizes meanwhile), and only those that read what the change
+   * reached are integrated again, as they are from a stopped request's provisional table
+   * during a drag. With drawn, the caller draws table's present sizes itself (it
    * builds them for the change): when the measurement finds them, the result is a
    * confirmation (IsConfirmation) and nothing is built. Stops earlier requests. Returns the
    * request's number (positive), or 0 after an error (bad arguments, or the worker could not

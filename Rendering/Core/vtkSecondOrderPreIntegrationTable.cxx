@@ -58,10 +58,45 @@ bool vtkSecondOrderPreIntegrationTable::AdoptBuild(vtkPreIntegrationTable* built
   this->BuiltLayers = this->GetNumberOfLayers();
   this->BuiltEntries = this->GetNumberOfEntries();
   this->BuiltValid = this->ComputeEntries;
+  this->DirtySamples[0] = 0;
+  this->DirtySamples[1] = -1;
   this->LastBuildEntries = other->LastBuildEntries;
   this->LastBuildCentres[0] = 0;
   this->LastBuildCentres[1] = this->TableSize - 1;
   other->BuiltValid = false;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSecondOrderPreIntegrationTable::TakeEntries(vtkSecondOrderPreIntegrationTable* other)
+{
+  if (!other || other == this || !other->BuiltValid || !other->ComputeEntries ||
+    !other->Sampler->Prepare())
+  {
+    return false;
+  }
+  other->BuildIterationTable();
+  if (!other->BuiltKernel.SameAs(other->GetKernel()) ||
+    other->BuiltLayers != other->GetNumberOfLayers() ||
+    other->BuiltEntries != other->GetNumberOfEntries() ||
+    other->Table->GetNumberOfTuples() != other->BuiltEntries)
+  {
+    return false;
+  }
+  std::swap(this->Table, other->Table);
+  std::swap(this->BuiltIterationTable, other->BuiltIterationTable);
+  this->BuiltKernel = other->BuiltKernel;
+  this->BuiltLayers = other->BuiltLayers;
+  this->BuiltEntries = other->BuiltEntries;
+  this->DirtySamples[0] = other->DirtySamples[0];
+  this->DirtySamples[1] = other->DirtySamples[1];
+  this->BuiltValid = true;
+  // Other keeps no entries: its key no longer describes its table.
+  other->Table->Initialize();
+  other->Table->SetNumberOfComponents(4);
+  other->BuildKey.clear();
+  other->BuiltValid = false;
+  other->Modified();
   return true;
 }
 
@@ -261,6 +296,12 @@ bool vtkSecondOrderPreIntegrationTable::ChangedSamples(
     this->IterationSamples,
     first,
     last);
+  if (this->DirtySamples[1] >= this->DirtySamples[0])
+  {
+    // One range holds both: Reads() tests a path against a single range.
+    first = last < first ? this->DirtySamples[0] : std::min(first, this->DirtySamples[0]);
+    last = std::max(last, this->DirtySamples[1]);
+  }
   return true;
 }
 
@@ -326,7 +367,6 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   // Nothing changed at all: the entries, the iteration table and its empty runs (built from
   // the same samples) are the last build's.
   this->EntriesUnchanged = incremental && changedLast < changedFirst;
-  this->BuiltIterationTable->DeepCopy(this->IterationTable);
   this->BuiltKernel = kernel;
   this->BuiltLayers = this->GetNumberOfLayers();
   this->BuiltEntries = entries;
@@ -387,7 +427,20 @@ void vtkSecondOrderPreIntegrationTable::BuildTable()
   this->LastBuildEntries = integrated * this->GetNumberOfLayers();
   this->LastBuildCentres[0] = complete ? centres[0] : 0;
   this->LastBuildCentres[1] = complete ? centres[1] : nc - 1;
-  this->BuiltValid = complete;
+  if (complete)
+  {
+    this->BuiltIterationTable->DeepCopy(this->IterationTable);
+    this->DirtySamples[0] = 0;
+    this->DirtySamples[1] = -1;
+  }
+  else if (incremental)
+  {
+    // Stopped part way: an entry that reads none of the changed samples still holds the
+    // value of the samples last built from (and of the new ones); the others may hold either.
+    this->DirtySamples[0] = changedFirst;
+    this->DirtySamples[1] = changedLast;
+  }
+  this->BuiltValid = complete || incremental;
 }
 
 //------------------------------------------------------------------------------

@@ -63,6 +63,17 @@ public:
   bool AdoptBuild(vtkPreIntegrationTable* built) override;
   vtkIdType GetNumberOfEntries() const override;
 
+  /**
+   * Take other's entries with what they were built from, leaving other without entries (its
+   * next Update() builds them all): this table's next Update(), at other's sizes, ranges and
+   * settings, then integrates only the entries that read a transfer-function sample changed
+   * since, as other's own would. A worker that builds the table for an edit so starts from
+   * the entries the renderer holds instead of from nothing. False, and nothing taken, when
+   * other holds no complete build at its present settings (prepares other's sampler and
+   * builds its iteration table to tell).
+   */
+  bool TakeEntries(vtkSecondOrderPreIntegrationTable* other);
+
   ///@{
   /**
    * Entries along the chord axis (back - front); 1 holds chord 0 only. Initial value is 65.
@@ -254,11 +265,14 @@ protected:
   {
     this->BuiltValid = false;
   }
+  // An incremental build stopped part way keeps its entries: those that read none of the
+  // samples it changed are still the last build's, and the next build integrates the others.
+  bool KeepsAbortedBuild() const override { return this->BuiltValid; }
 
 #ifndef __VTK_WRAP__
   // Whether the current settings and iteration table differ from the last build's only in
   // samples (the same kernel, layers and entries): then [first, last] are the samples that
-  // differ (last < first when none).
+  // differ, and those an aborted build may have changed (last < first when none).
   bool ChangedSamples(const vtkSecondOrderPreIntegrationTableKernel& kernel,
     int& first,
     int& last) const;
@@ -288,6 +302,9 @@ protected:
   int BuiltLayers = -1;
   vtkIdType BuiltEntries = -1;
   bool BuiltValid = false;
+  // Samples whose entries an aborted incremental build may have left at either build's values
+  // (the entries that read them are integrated again); last < first when none.
+  int DirtySamples[2] = { 0, -1 };
   vtkIdType LastBuildEntries = 0;
   int LastBuildCentres[2] = { 0, -1 };
 

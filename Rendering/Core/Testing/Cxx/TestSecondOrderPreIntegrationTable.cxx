@@ -967,7 +967,7 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
   //      samples elsewhere), only the entries whose paths read a changed sample are
   //      integrated, and every entry equals, bit for bit, a table built from scratch; with
   //      shading moments and the prefilter too. A change of size, length or sampling density
-  //      rebuilds every entry; so does a build after an aborted one.
+  //      rebuilds every entry; so does a build after an aborted whole one.
   for (int variant = 0; variant < 3; ++variant)
   {
     const std::string name = variant == 0 ? "plain" : variant == 1 ? "slab moments" : "prefilter";
@@ -1021,21 +1021,93 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
       "incremental " + name + ": a new size rebuilds every entry");
   }
   {
-    // An aborted build leaves nothing to keep: the next build is full.
+    // An aborted build: a whole one leaves nothing to keep (the next build is full); an
+    // incremental one keeps its entries, and the next build, after an edit that sets the
+    // aborted one's change back and changes another node, integrates the entries either
+    // reaches and equals a table from scratch (without the aborted build's samples it would
+    // keep values of a transfer function no longer in use). TakeEntries() moves the entries to
+    // another table of the same settings, whose next build is incremental in the same way.
     TransferFunction tf;
-    MakeSmoothTransferFunction(tf);
+    tf.Color->AddRGBPoint(0.0, 0.9, 0.2, 0.1);
+    tf.Color->AddRGBPoint(63.0, 0.1, 0.6, 1.0);
+    for (double x : { 0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 63.0 })
+    {
+      tf.Opacity->AddPoint(x, 0.3);
+    }
     tf.SetUnit(1.0);
-    auto table = Build(tf, 0.0, 1.0, Sizes{ 17, 9, 5, 0.0, 0.0 }, 1.0, 16, "abort, first");
+    const Sizes sizes{ 33, 17, 9, 20.0, 8.0 };
+    auto configured = [&](vtkSecondOrderPreIntegrationTable* table)
+    {
+      table->SetVolumeProperty(tf.Property);
+      table->SetScalarRange(0.0, 63.0);
+      table->SetTableSize(sizes.Centre);
+      table->SetChordSize(sizes.Chord);
+      table->SetDeviationSize(sizes.Deviation);
+      table->SetChordRange(sizes.ChordRange);
+      table->SetDeviationRange(sizes.DeviationRange);
+      table->SetSegmentLength(2.0);
+      table->SetIterations(64);
+    };
+    auto sameAsFresh = [&](vtkSecondOrderPreIntegrationTable* table, const std::string& label)
+    {
+      vtkNew<vtkSecondOrderPreIntegrationTable> fresh;
+      configured(fresh);
+      check(fresh->Update(), label + ": the table from scratch");
+      bool same = fresh->GetTable()->GetNumberOfValues() == table->GetTable()->GetNumberOfValues();
+      for (vtkIdType v = 0; same && v < fresh->GetTable()->GetNumberOfValues(); ++v)
+      {
+        same = fresh->GetTable()->GetValue(v) == table->GetTable()->GetValue(v);
+      }
+      check(same, label + ": every entry equals the table from scratch");
+    };
     vtkNew<vtkCallbackCommand> abort;
     abort->SetCallback([](vtkObject* caller, unsigned long, void*, void*)
       { static_cast<vtkPreIntegrationTable*>(caller)->SetAbortBuild(true); });
-    const unsigned long tag = table->AddObserver(vtkCommand::ProgressEvent, abort);
-    tf.Opacity->AddPoint(0.5, 0.9);
-    check(!table->Update(), "abort: the build is stopped");
-    messages.TakeError("aborted");
-    table->RemoveObserver(tag);
+    auto abortedUpdate = [&](vtkSecondOrderPreIntegrationTable* table, const std::string& label)
+    {
+      const unsigned long tag = table->AddObserver(vtkCommand::ProgressEvent, abort);
+      check(!table->Update(), label + ": the build is stopped");
+      messages.TakeError("aborted");
+      table->RemoveObserver(tag);
+    };
+    vtkNew<vtkSecondOrderPreIntegrationTable> table;
+    configured(table);
+    check(table->Update(), "abort: first build");
+    const vtkIdType all = table->GetNumberOfEntries();
+    tf.Opacity->AddPoint(20.0, 0.9);
+    abortedUpdate(table, "abort, incremental");
+    check(table->GetTable()->GetNumberOfTuples() == all, "abort, incremental: entries kept");
+    tf.Opacity->AddPoint(20.0, 0.3);
+    tf.Opacity->AddPoint(50.0, 0.6);
+    check(table->Update(), "abort, incremental: rebuilt after a second edit");
+    const vtkIdType some = table->GetLastBuildEntries();
+    check(some > 0 && some < all,
+      "abort, incremental: the next build integrates only what either edit reaches (" +
+        std::to_string(some) + " of " + std::to_string(all) + ")");
+    sameAsFresh(table, "abort, incremental");
+
+    tf.Opacity->AddPoint(40.0, 0.5);
+    vtkNew<vtkSecondOrderPreIntegrationTable> taker;
+    configured(taker);
+    check(taker->TakeEntries(table), "TakeEntries: a complete build at its settings is taken");
+    check(table->GetTable()->GetNumberOfTuples() == 0, "TakeEntries: the other keeps none");
+    check(taker->Update() && taker->GetLastBuildEntries() > 0 &&
+        taker->GetLastBuildEntries() < all,
+      "TakeEntries: the taker's build integrates only what the edit reaches (" +
+        std::to_string(taker->GetLastBuildEntries()) + " of " + std::to_string(all) + ")");
+    sameAsFresh(taker, "TakeEntries");
+    check(table->Update() && table->GetLastBuildEntries() == all,
+      "TakeEntries: the other's next build integrates every entry");
+    table->SetChordSize(19);
+    check(!taker->TakeEntries(table) && table->GetTable()->GetNumberOfTuples() > 0,
+      "TakeEntries: a build at other settings is not taken, and stays");
+    messages.ExpectNone(check, "after TakeEntries");
+
+    table->SetSegmentLength(2.5);
+    abortedUpdate(table, "abort, whole");
+    check(table->GetTable()->GetNumberOfTuples() == 0, "abort, whole: nothing kept");
     check(table->Update() && table->GetLastBuildEntries() == table->GetNumberOfEntries(),
-      "abort: the next build integrates every entry");
+      "abort, whole: the next build integrates every entry");
   }
 
   //----------------------------------------------------------------------------

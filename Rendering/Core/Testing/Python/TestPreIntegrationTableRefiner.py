@@ -24,6 +24,9 @@ orders:
   before the measurement ends, then the measured one; when the measurement finds the same
   sizes, the final result is a confirmation (IsConfirmation) that changes nothing; without
   taking the provisional one, only the measured one waits; the result is the same table either way as a plain request's;
+- a provisional request whose table holds a complete build at the kept sizes takes its entries,
+  and its provisional table integrates only those the edit reaches (equal to a fresh build),
+  also when the request is held and superseded by a second edit before it starts;
 - vtkSecondOrderPreIntegrationTable::GetNumberOfEntriesToBuild predicts the entries the next
   build integrates (all at first, fewer after an opacity edit, none when nothing changed);
 - deleting a refiner in the middle of a measurement returns (the worker stops at its next
@@ -306,6 +309,56 @@ for order in (1, 2):
             again.GetBuildCount() == builds and sizes(again) == sizes(expected) and
             numpy.array_equal(entries(again), entries(expected)),
             "%s: the same sizes measured: the provisional table stays" % name)
+    del refiner
+
+# A provisional request whose table holds a complete build at the kept sizes takes its entries
+# (the caller draws interim sizes meanwhile), and the provisional table integrates only those
+# that read what the edit reached, equal to that table built from scratch. Held (Paused) and
+# superseded by a second edit before it starts, the request's entries go to the next one.
+for order in (1, 2):
+    name = "order %d, from the caller's entries" % order
+    edited = make_property()
+    measured = make_table(edited, order)
+    hovr.vtkPreIntegrationTableSizer().Choose(image, scalars, measured, order, step)
+    held = make_table(edited, order)
+    for setter in ("TableSize", "ChordSize", "ChordRange", "DeviationSize", "DeviationRange",
+                   "Prefilter"):
+        getattr(held, "Set" + setter)(getattr(measured, "Get" + setter)())
+    held.Update()
+    total = held.GetNumberOfEntries()
+    function = edited.GetScalarOpacity()
+    node = [0.0] * 4
+    refiner = hovr.vtkPreIntegrationTableRefiner()
+    refiner.SetPaused(True)
+    requests = []
+    for height in (0.5, 0.45):
+        function.GetNodeValue(function.GetSize() // 2, node)
+        node[1] = height
+        function.SetNodeValue(function.GetSize() // 2, node)
+        requests.append(refiner.Request(image, scalars, held, order, step, 4097, True, True))
+        if len(requests) == 1:
+            c.check(held.GetTable().GetNumberOfTuples() == 0,
+                    "%s: the request takes the table's entries" % name)
+    refiner.SetPaused(False)
+    table = make_table(edited, order)
+    seen = False
+    while not seen:
+        if refiner.IsProvisional(requests[-1]):
+            seen = refiner.TakeResult(requests[-1], table)
+        elif ((refiner.IsReady(requests[-1]) and not refiner.IsProvisional(requests[-1])) or
+              (not refiner.IsBusy() and not refiner.IsReady(requests[-1]))):
+            break
+    refiner.Wait()
+    fresh = make_table(edited, order)
+    for setter in ("TableSize", "ChordSize", "ChordRange", "DeviationSize", "DeviationRange",
+                   "Prefilter"):
+        getattr(fresh, "Set" + setter)(getattr(measured, "Get" + setter)())
+    fresh.Update()
+    c.check(seen and 0 < table.GetLastBuildEntries() < total and
+            numpy.array_equal(entries(table), entries(fresh)),
+            "%s: the provisional table integrated %d of %d entries, equal to a fresh build" % (
+                name, table.GetLastBuildEntries(), total))
+    c.check(refiner.GetNumberOfStopped() == 1, "%s: the first request was stopped" % name)
     del refiner
 
 # GetNumberOfEntriesToBuild predicts the entries the next build integrates: all of them before
