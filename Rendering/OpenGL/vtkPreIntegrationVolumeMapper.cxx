@@ -89,6 +89,7 @@ vtkPreIntegrationVolumeMapper::~vtkPreIntegrationVolumeMapper()
   this->EmptyRunsTexture->Delete();
   this->NormalBricks->Delete();
   this->SetNormalArrayName(nullptr);
+  this->SetSizingVolume(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -645,6 +646,22 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     this->TableSizing->Reset();
     return true;
   }
+  // Measured on the whole volume when the input is a piece of it.
+  vtkDataArray* sizingScalars = this->SizingVolume
+    ? this->SizingVolume->GetPointData()->GetScalars()
+    : nullptr;
+  if (this->SizingVolume &&
+    (!sizingScalars || sizingScalars->GetNumberOfComponents() != 1 ||
+      sizingScalars->GetNumberOfTuples() != this->SizingVolume->GetNumberOfPoints()))
+  {
+    vtkErrorMacro("The SizingVolume needs one point scalar per point; not drawing.");
+    return false;
+  }
+  if (this->SizingVolume)
+  {
+    input = this->SizingVolume;
+    scalars = sizingScalars;
+  }
   const int precision = this->GetEffectiveTablePrecision();
   // Bytes per entry, all moment layers of a shaded table included.
   const int bytes[4] = { 16 * layers, 4 * layers, 8 * layers, 16 * layers };
@@ -687,6 +704,25 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     return false;
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPreIntegrationVolumeMapper::SetSizingVolume(vtkImageData* volume)
+{
+  if (volume != this->SizingVolume)
+  {
+    vtkImageData* old = this->SizingVolume;
+    this->SizingVolume = volume;
+    if (volume)
+    {
+      volume->Register(this);
+    }
+    if (old)
+    {
+      old->UnRegister(this);
+    }
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1164,5 +1200,6 @@ void vtkPreIntegrationVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GradientInterpolation: " << this->GetGradientInterpolation() << "\n";
   os << indent << "Gooch: " << this->GetGooch() << "\n";
   os << indent << "TableMemoryLimit: " << static_cast<vtkIdType>(this->TableMemoryLimit) << "\n";
+  os << indent << "SizingVolume: " << this->SizingVolume << "\n";
   os << indent << "RefineInBackground: " << this->GetRefineInBackground() << "\n";
 }

@@ -70,6 +70,7 @@
 #include <string> // For std::string
 #include <vector> // For std::vector
 
+class vtkImageData;
 class vtkOpenGLPreIntegrationTableBuilder;
 class vtkOpenGLRenderWindow;
 class vtkOpenGLVolumeBricks;
@@ -161,6 +162,19 @@ public:
    */
   vtkSetClampMacro(TableMemoryLimit, double, 1024.0, 1e12);
   vtkGetMacro(TableMemoryLimit, double);
+  ///@}
+
+  ///@{
+  /**
+   * The volume the automatic sizes are measured on instead of the input (its point scalars,
+   * one component, in the same world coordinates): when the input is one piece of a volume
+   * drawn in pieces (ParaView's ranks), the whole volume, or every few points of it
+   * (vtkWholeVolumeAssembler), so that every piece draws the table the whole volume gets. Its
+   * scalars must span the input's values or ScalarRange. nullptr measures on the input.
+   * Initial value is nullptr.
+   */
+  virtual void SetSizingVolume(vtkImageData* volume);
+  vtkGetObjectMacro(SizingVolume, vtkImageData);
   ///@}
 
   /**
@@ -501,6 +515,7 @@ protected:
   vtkSecondOrderPreIntegrationTable* SecondOrderTable;
   vtkPreIntegrationTableSizing* TableSizing;
   double TableMemoryLimit = 64.0 * 1024.0 * 1024.0;
+  vtkImageData* SizingVolume = nullptr;
   // Fires the mapper's ProgressEvent for the sizer's and the tables' (measurements and builds
   // made before a frame).
   static void ForwardProgress(vtkObject*, unsigned long, void* clientData, void* callData);

@@ -10,6 +10,7 @@
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkPointData.h"
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -27,7 +28,11 @@
 #include "vtkPreIntegrationVolumeMapper.h"
 #include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
+#include "vtkSecondOrderPreIntegrationTable.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkVolumeProperty.h"
+#include "vtkWholeVolumeAssembler.h"
 
 #include <algorithm>
 #include <cmath>
@@ -177,7 +182,108 @@ int vtkHovrVolumeRepresentation::RequestData(vtkInformation* request,
     const double b = k % 2 == 0 ? whole[2 + k] : -whole[2 + k];
     this->WholeBounds[k] = whole[2] <= -whole[3] ? b : (k % 2 == 0 ? 1.0 : 0.0);
   }
+  this->AssembleSizingVolume(inputVector[0]->GetNumberOfInformationObjects() > 0
+      ? inputVector[0]->GetInformationObject(0)
+      : nullptr,
+    input,
+    scalars);
   return result;
+}
+
+//------------------------------------------------------------------------------
+void vtkHovrVolumeRepresentation::AssembleSizingVolume(vtkInformation* inInfo,
+  vtkDataObject* input,
+  vtkDataArray* scalars)
+{
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    this->SizingVolume = nullptr;
+    this->SizingSource = nullptr;
+    return;
+  }
+  // Every rank takes part in every reduction below, and decides from reduced values alone.
+  auto* image = vtkImageData::SafeDownCast(input);
+  bool point = false;
+  for (int a = 0; image && scalars && a < image->GetPointData()->GetNumberOfArrays(); ++a)
+  {
+    point = point || image->GetPointData()->GetAbstractArray(a) == scalars;
+  }
+  point = point && scalars->GetNumberOfComponents() == 1 &&
+    scalars->GetNumberOfTuples() == image->GetNumberOfPoints();
+  int extent[6] = { 0, -1, 0, -1, 0, -1 };
+  const bool known = inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  if (known)
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  }
+  const bool needed = point &&
+    (!this->SizingVolume || scalars != this->SizingSource ||
+      scalars->GetMTime() != this->SizingSourceTime);
+  // Minima of: minus the array's type, the whole extent's lows and minus its highs, and minus
+  // whether this rank needs the whole volume again (its array changed).
+  int local[8] = { VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX,
+    VTK_INT_MAX, needed ? -1 : 0 };
+  if (point)
+  {
+    local[0] = -scalars->GetDataType();
+  }
+  for (int k = 0; known && point && k < 6; ++k)
+  {
+    local[1 + k] = k % 2 == 0 ? extent[k] : -extent[k];
+  }
+  int reduced[8];
+  controller->AllReduce(local, reduced, 8, vtkCommunicator::MIN_OP);
+  if (reduced[0] == VTK_INT_MAX || reduced[1] == VTK_INT_MAX)
+  {
+    this->SizingVolume = nullptr; // no rank has a point array of one component
+    this->SizingSource = nullptr;
+    return;
+  }
+  if (reduced[7] == 0)
+  {
+    return; // no rank's data changed
+  }
+  const int type = -reduced[0];
+  for (int k = 0; k < 6; ++k)
+  {
+    extent[k] = k % 2 == 0 ? reduced[1 + k] : -reduced[1 + k];
+  }
+  vtkNew<vtkWholeVolumeAssembler> assembler;
+  const int size = vtkDataArray::GetDataTypeSize(type);
+  const int stride = vtkWholeVolumeAssembler::ComputeStride(extent, size, 64.0 * 1024.0 * 1024.0);
+  const bool prepared = assembler->Prepare(point ? image : nullptr,
+    point && scalars->GetDataType() == type ? scalars : nullptr,
+    type,
+    extent,
+    stride);
+  int ready = prepared ? 1 : 0, everywhere = 0;
+  controller->AllReduce(&ready, &everywhere, 1, vtkCommunicator::MIN_OP);
+  this->SizingVolume = nullptr;
+  this->SizingSource = nullptr;
+  if (!everywhere)
+  {
+    vtkWarningMacro("The whole volume could not be put together on every rank (see the "
+                    "errors): pre-integration measures its table sizes on each rank's piece, "
+                    "and the ranks may draw different tables.");
+    return;
+  }
+  vtkSmartPointer<vtkDataArray> values;
+  values.TakeReference(assembler->GetValues()->NewInstance());
+  vtkNew<vtkUnsignedCharArray> coverage;
+  controller->AllReduce(assembler->GetValues(), values, vtkCommunicator::MAX_OP);
+  controller->AllReduce(assembler->GetCoverage(), coverage, vtkCommunicator::MAX_OP);
+  if (!point)
+  {
+    return; // a rank without data draws nothing
+  }
+  auto whole = vtkSmartPointer<vtkImageData>::New();
+  if (assembler->Finish(values, coverage, image, scalars->GetName(), whole))
+  {
+    this->SizingVolume = whole;
+    this->SizingSource = scalars;
+    this->SizingSourceTime = scalars->GetMTime();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -264,6 +370,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     }
     mapper->SetNormalArrayName(normals);
     mapper->SetRefineInBackground(this->RefineInBackground && !batch);
+    mapper->SetSizingVolume(this->SizingVolume);
   }
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
@@ -410,6 +517,23 @@ int vtkHovrVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* re
 }
 
 //------------------------------------------------------------------------------
+int* vtkHovrVolumeRepresentation::GetTableSizes()
+{
+  std::fill(this->TableSizes, this->TableSizes + 3, 0);
+  auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
+  if (mapper &&
+    (this->Integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
+      this->Integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER))
+  {
+    vtkSecondOrderPreIntegrationTable* table = mapper->GetActiveTable();
+    this->TableSizes[0] = table->GetTableSize();
+    this->TableSizes[1] = table->GetChordSize();
+    this->TableSizes[2] = table->GetDeviationSize();
+  }
+  return this->TableSizes;
+}
+
+//------------------------------------------------------------------------------
 int vtkHovrVolumeRepresentation::GetRefinementState()
 {
   if (auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper))
@@ -504,6 +628,7 @@ void vtkHovrVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefineInBackground: " << this->RefineInBackground << "\n";
   os << indent << "WholeScalarRange: " << this->WholeScalarRange[0] << ", "
      << this->WholeScalarRange[1] << "\n";
+  os << indent << "SizingVolume: " << this->SizingVolume.Get() << "\n";
   os << indent << "WholeBounds:";
   for (double b : this->WholeBounds)
   {

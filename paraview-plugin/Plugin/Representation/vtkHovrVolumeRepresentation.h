@@ -30,7 +30,11 @@
  * and ParaView joins the images front to back ("over"). Every rank's mapper spans the whole
  * volume's scalar range and anchors its sampling to the whole volume's bounds (reduced over
  * the ranks when the data update: GetWholeScalarRange, GetWholeBounds), so that each piece is
- * drawn as the whole volume draws it. A maximum or minimum over the pieces is not joined
+ * drawn as the whole volume draws it. Pre-integration measures its table sizes on the whole
+ * volume on every rank (put together from the pieces when the data update,
+ * vtkWholeVolumeAssembler: every point up to 64 MiB of values, else every few points), so
+ * that every rank draws the table one rank draws. A maximum or minimum over the
+ * pieces is not joined
  * front to back: for ANALYTIC_MIP and ANALYTIC_MINIP the representation asks for no ordered
  * compositing and the mapper writes each pixel's depth from its extremum
  * (vtkAnalyticVolumeMapper::ExtremumDepth), so that ParaView's z-buffer compositing keeps the
@@ -45,6 +49,7 @@
 
 #include "hovrParaViewRepresentationModule.h" // For export macro
 #include "vtkImageVolumeRepresentation.h"
+#include "vtkImageData.h"    // For the sizing volume (vtkSmartPointer)
 #include "vtkSmartPointer.h" // For ivars
 
 class vtkAdaptiveSamplingOracle;
@@ -293,6 +298,22 @@ public:
    */
   vtkGetVector6Macro(WholeBounds, double);
 
+  /**
+   * On several ranks, the volume pre-integration measures its table sizes on
+   * (vtkPreIntegrationVolumeMapper::SetSizingVolume): the whole volume's coloured point array
+   * at a stride (1 while its values take at most 64 MiB, 256^3 float values; beyond, every
+   * second, third ... point along each axis), put together from every rank's piece when the
+   * data update. nullptr on one rank (the input is the whole volume), on a rank without data,
+   * or for cell or multi-component arrays.
+   */
+  vtkImageData* GetSizingVolume() { return this->SizingVolume; }
+
+  /**
+   * The entries along the centre, chord and deviation axes of the pre-integration table drawn
+   * last (0, 0, 0 for the methods without one).
+   */
+  int* GetTableSizes() VTK_SIZEHINT(3);
+
 protected:
   vtkHovrVolumeRepresentation();
   ~vtkHovrVolumeRepresentation() override;
@@ -314,6 +335,11 @@ protected:
 
   // Whether this process is one of several ranks and the method a projection.
   bool DistributedProjection();
+
+  // On several ranks, the whole volume from every rank's piece of the coloured array (a
+  // collective call, in RequestData): SizingVolume, assembled again when any rank's data
+  // changed.
+  void AssembleSizingVolume(vtkInformation* inInfo, vtkDataObject* input, vtkDataArray* scalars);
 
   // Half the smallest grid spacing of the mapper's input, or 0 when there is no grid.
   double ComputeAutomaticSampleDistance();
@@ -356,6 +382,11 @@ protected:
   bool OrderedCompositingInView = false; // the view composites in order (another needs it)
   bool RefineInBackground = false;
   double WholeScalarRange[2] = { 1.0, 0.0 };
+  vtkSmartPointer<vtkImageData> SizingVolume;
+  int TableSizes[3] = { 0, 0, 0 };
+  // What SizingVolume was assembled from on this rank: the array and its modification time.
+  vtkDataArray* SizingSource = nullptr;
+  vtkMTimeType SizingSourceTime = 0;
   double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
 
 private:

@@ -14,7 +14,9 @@ ranks), it also checks that
   - each method's image matches the one-rank image of --compare-dir: every rank draws its own
     piece, and ParaView's ordered compositing joins them without seams or doubled opacity;
   - that tolerance is well below the change a quarter more opacity makes (a piece drawn
-    twice would double it), so a piece composited wrongly cannot pass.
+    twice would double it), so a piece composited wrongly cannot pass;
+  - in pvbatch, rank 0 draws the pre-integration tables of the one-rank run (HovrTableSizes):
+    every rank measures them on the whole volume, not on its piece.
 
     pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir>
     mpiexec -n 2 pvbatch TestHovrPluginMPI.py --plugin <hovr.so> --output-dir <dir2> \
@@ -22,6 +24,7 @@ ranks), it also checks that
     pvpython TestHovrPluginMPI.py ... --ranks 2 --server <host>:<port>   (a 2-rank pvserver)
 """
 import argparse
+import json
 import os
 
 from paraview import servermanager
@@ -244,14 +247,31 @@ def ramp_scene(args, ranks, view, source, check):
     runs = [(method, "ramp-" + file_name(method)) for method in RAMP_METHODS]
     runs += [(method, "ramp-shaded-" + file_name(method)) for method in SHADED_METHODS]
     images = {}
+    sizes = {}
     for method, name in runs:
         display.Shade = 1 if name.startswith("ramp-shaded-") else 0
         display.HovrIntegration = method
         images[name] = capture(view, os.path.join(args.output_dir, name), IMAGE_SIZE)
+        if "pre-integration" in method and not args.server:
+            # Rank 0's table (pvbatch's scripts run there).
+            hovr = display.SMProxy.GetProperty("HovrTableSizes").GetParent()
+            hovr.UpdatePropertyInformation()
+            sizes[name] = [hovr.GetProperty("HovrTableSizes").GetElement(k) for k in range(3)]
         # (Shading darkens: object order's headlight leaves its brightest pixel near 94.)
         bright = 50 if name.startswith("ramp-shaded-") else 100
         check(read_rgb(images[name])[0].max() > bright, "%s: %s draws the volume" % (name, method))
     display.Shade = 0
+    if not args.server:
+        with open(os.path.join(args.output_dir, "table-sizes.json"), "w") as f:
+            json.dump(sizes, f)
+    if args.compare_dir and not args.server:
+        # Every rank measures the sizes on the whole volume: rank 0 draws one rank's table
+        # (measured on its own piece, it would not).
+        with open(os.path.join(args.compare_dir, "table-sizes.json")) as f:
+            single = json.load(f)
+        for name, drawn in sorted(sizes.items()):
+            check(drawn == single.get(name), "%s: the table on %d ranks is one rank's (%s, %s)"
+                  % (name, ranks, drawn, single.get(name)))
     if args.compare_dir:
         for method, name in runs:
             difference = image_difference(images[name], os.path.join(args.compare_dir, name))
