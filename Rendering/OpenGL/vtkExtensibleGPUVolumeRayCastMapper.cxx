@@ -487,6 +487,61 @@ void vtkExtensibleGPUVolumeRayCastMapper::CoverWholeBounds(double bounds[6]) con
 }
 
 //------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetWholeIndexBox(double lo[3], double hi[3])
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int dims[3] = { 1, 1, 1 };
+  if (input)
+  {
+    input->GetDimensions(dims);
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = 0.0;
+    hi[a] = dims[a] - 1.0;
+  }
+  double whole[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
+  this->CoverWholeBounds(whole);
+  if (!input || !(whole[0] <= whole[1]))
+  {
+    return;
+  }
+  const int* extent = input->GetExtent();
+  for (int c = 0; c < 8; ++c)
+  {
+    const double corner[3] = { whole[c & 1], whole[2 + ((c >> 1) & 1)], whole[4 + ((c >> 2) & 1)] };
+    double index[3];
+    input->TransformPhysicalPointToContinuousIndex(corner, index);
+    for (int a = 0; a < 3; ++a)
+    {
+      // Whole points: the pieces' bounds lie on the grid.
+      const double i = std::round(index[a]) - extent[2 * a];
+      lo[a] = c == 0 ? i : std::min(lo[a], i);
+      hi[a] = c == 0 ? i : std::max(hi[a], i);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::GetOwnedIndexBox(int lo[3], int hi[3])
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int extent[6] = { 0, 0, 0, 0, 0, 0 };
+  if (input)
+  {
+    input->GetExtent(extent);
+  }
+  const int* owned = this->OwnedExtent;
+  const bool some = owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5];
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = some ? std::max(owned[2 * a], extent[2 * a]) - extent[2 * a] : 0;
+    hi[a] = (some ? std::min(owned[2 * a + 1], extent[2 * a + 1]) : extent[2 * a + 1]) -
+      extent[2 * a];
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -499,6 +554,12 @@ void vtkExtensibleGPUVolumeRayCastMapper::PrintSelf(ostream& os, vtkIndent inden
   for (double b : this->WholeBounds)
   {
     os << " " << b;
+  }
+  os << "\n";
+  os << indent << "OwnedExtent:";
+  for (int e : this->OwnedExtent)
+  {
+    os << " " << e;
   }
   os << "\n";
   os << indent << "RayFrameInUse: " << this->RayFrameInUse << "\n";

@@ -160,6 +160,21 @@ public:
   vtkGetVector6Macro(WholeBounds, double);
   ///@}
 
+  ///@{
+  /**
+   * The points of the input (its structured extent) the mapper draws as its own, when the
+   * input is one piece of a volume that carries ghost points around it (a rank's under MPI,
+   * as the ParaView plugin sets it): the piece without them. With WholeBounds, pre-integration
+   * then walks each ray as the whole volume does, and a segment or slab that starts in the
+   * owned points is drawn whole, reading the ghost points past them, so that the pieces
+   * composited front to back give the whole volume's image. The ghost points must reach two
+   * sample distances and two points past the owned ones. An empty extent (a minimum above its
+   * maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
+   */
+  vtkSetVector6Macro(OwnedExtent, int);
+  vtkGetVector6Macro(OwnedExtent, int);
+  ///@}
+
   /**
    * Bricks of the last frame drawn brick by brick, and the bytes of GPU memory their textures
    * hold (0 for methods that draw from VTK's volume texture).
@@ -412,9 +427,16 @@ protected:
 
   double ScalarRange[2] = { 1.0, 0.0 };
   double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
+  int OwnedExtent[6] = { 0, -1, 0, -1, 0, -1 };
 
   // bounds widened to cover WholeBounds when those are not empty.
   void CoverWholeBounds(double bounds[6]) const;
+
+  // The whole volume's box (WholeBounds' corners, else the input's own) and the points the
+  // input owns (OwnedExtent within the input, else all of them), in the input's grid index
+  // (0 at its first point).
+  void GetWholeIndexBox(double lo[3], double hi[3]);
+  void GetOwnedIndexBox(int lo[3], int hi[3]);
 
 private:
   vtkExtensibleGPUVolumeRayCastMapper(const vtkExtensibleGPUVolumeRayCastMapper&) = delete;

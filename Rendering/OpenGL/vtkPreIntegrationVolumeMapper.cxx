@@ -1063,15 +1063,30 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
   this->GetBrickCells(cells);
   int dims[3];
   vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(dims);
-  float invTexels[3], first[3], last[3], ownedMin[3], ownedMax[3], volumeMax[3], origin[3];
+  // A piece with ghost points (OwnedExtent) walks its rays in the whole volume (WholeBounds),
+  // and this brick draws the pieces that start in its cells and in the points the input owns;
+  // without ghost points a piece is walked as a volume of its own.
+  const int* ownedExtent = this->OwnedExtent;
+  double wholeLo[3] = { 0.0, 0.0, 0.0 };
+  double wholeHi[3] = { dims[0] - 1.0, dims[1] - 1.0, dims[2] - 1.0 };
+  if (ownedExtent[0] <= ownedExtent[1] && ownedExtent[2] <= ownedExtent[3] &&
+    ownedExtent[4] <= ownedExtent[5])
+  {
+    this->GetWholeIndexBox(wholeLo, wholeHi);
+  }
+  int ownedLo[3], ownedHi[3];
+  this->GetOwnedIndexBox(ownedLo, ownedHi);
+  float invTexels[3], first[3], last[3], ownedMin[3], ownedMax[3], volumeMin[3], volumeMax[3],
+    origin[3];
   for (int a = 0; a < 3; ++a)
   {
     invTexels[a] = 1.0f / static_cast<float>(points[2 * a + 1] - points[2 * a] + 1);
     first[a] = static_cast<float>(-points[2 * a]);
     last[a] = static_cast<float>(dims[a] - 1 - points[2 * a]);
-    ownedMin[a] = static_cast<float>(cells[2 * a]);
-    ownedMax[a] = static_cast<float>(cells[2 * a + 1]);
-    volumeMax[a] = static_cast<float>(dims[a] - 1);
+    ownedMin[a] = static_cast<float>(std::max(cells[2 * a], ownedLo[a]));
+    ownedMax[a] = static_cast<float>(std::min(cells[2 * a + 1], ownedHi[a]));
+    volumeMin[a] = static_cast<float>(wholeLo[a]);
+    volumeMax[a] = static_cast<float>(wholeHi[a]);
     origin[a] = static_cast<float>(points[2 * a]);
   }
   program->SetUniform3f("hovr_volumeInvTexels", invTexels);
@@ -1079,7 +1094,10 @@ void vtkPreIntegrationVolumeMapper::SetExtensionShaderParameters(vtkShaderProgra
   program->SetUniform3f("hovr_volumeLast", last);
   program->SetUniform3f("hovr_ownedMin", ownedMin);
   program->SetUniform3f("hovr_ownedMax", ownedMax);
+  program->SetUniform3f("hovr_volumeMin", volumeMin);
   program->SetUniform3f("hovr_volumeMax", volumeMax);
+  const float dataMax[3] = { dims[0] - 1.0f, dims[1] - 1.0f, dims[2] - 1.0f };
+  program->SetUniform3f("hovr_dataMax", dataMax);
   program->SetUniform3f("hovr_brickOrigin", origin);
   this->SetRayFrameUniforms(program);
   program->SetUniformf("hovr_planeT", this->PlaneT);

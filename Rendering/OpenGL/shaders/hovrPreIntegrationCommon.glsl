@@ -25,7 +25,9 @@ uniform vec3 hovr_volumeLast;      // the volume's last point in the brick's gri
 uniform vec3 hovr_volumeFirst;     // and its first
 uniform vec3 hovr_ownedMin;        // the brick's own box, the volume's grid index
 uniform vec3 hovr_ownedMax;
-uniform vec3 hovr_volumeMax; // the volume's last point, the volume's grid index
+uniform vec3 hovr_volumeMin; // the box the rays are walked in (a piece with ghost points:
+uniform vec3 hovr_volumeMax; // the whole volume it is a piece of), the volume's grid index
+uniform vec3 hovr_dataMax;   // the input's last point (its first is 0), where rays end
 
 // The rays (vtkCameraRayModel::GetGridRayFrame): the ray of the pixel at offset p from the
 // frame's pixel centre passes through centre + p.x dx + p.y dy, along that point minus eye
@@ -247,7 +249,7 @@ void hovr_preintRay()
   hovr_frameRay(hovr_localCentre, hovr_localEye, hovr_localPixelCentre, hovr_base, hovr_dir,
     hovr_baseT);
   // Decisions of which piece is whose: in the volume's frame, alike in every brick.
-  vec2 inVolume = hovr_boxT(vec3(0.0), hovr_volumeMax, hovr_volumeMax, gBase, gDir, gBaseT);
+  vec2 inVolume = hovr_boxT(hovr_volumeMin, hovr_volumeMax, hovr_volumeMax, gBase, gDir, gBaseT);
   vec2 owned = hovr_boxT(hovr_ownedMin, hovr_ownedMax, hovr_volumeMax, gBase, gDir, gBaseT);
   // The ray starts at the volume's entry or the camera's near plane (the same for every
   // brick), and ends at its exit or where VTK terminates it (opaque geometry, clipping).
@@ -256,7 +258,8 @@ void hovr_preintRay()
   // (VTK's own termination point mixes texture coordinates of two kinds once it clips, which
   // matters with the 2-point box VTK draws: the depth and the planes are taken here.)
   vec3 termination = hovr_textureToLocal(hovr_windowToTexture(hovr_frameDepth()));
-  hovr_rayEnd = min(inVolume.y, hovr_tOf(termination));
+  vec2 inData = hovr_boxT(vec3(0.0), hovr_dataMax, hovr_dataMax, gBase, gDir, gBaseT);
+  hovr_rayEnd = min(min(inVolume.y, inData.y), hovr_tOf(termination));
 #if HOVR_CLIPPING
   for (int i = 0; i < hovr_clippingCount; ++i)
   {

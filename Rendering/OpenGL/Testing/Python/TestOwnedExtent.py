@@ -1,0 +1,135 @@
+"""OwnedExtent with WholeBounds: pieces of a volume that carry ghost points, drawn by
+pre-integration and composited front to back (what ParaView's ordered compositing does on
+several ranks), give the whole volume's image.
+
+Marschner-Lobb plus a ramp along x (33 x 29 x 25, so that each piece covers another part of
+the range), three narrow opacity peaks, ScalarRange the whole range, the table sizes measured
+on the whole volume (SizingVolume), 96 x 96 float images, a step of half a voxel: the volume is cut into two pieces along x and into three along y; each
+piece carries 4 ghost points past its own points where it has a neighbour, and OwnedExtent
+gives its own points. For both orders, unshaded and shaded, parallel and perspective:
+- the pieces composited front to back equal the whole volume's image within float rounding
+  (max 1e-4): a segment or slab that starts in a piece's own points is drawn whole from its
+  ghost points, and the next piece starts where it ends;
+- without OwnedExtent (each piece drawn as a volume of its own, as before ghost points were
+  used) they differ where rays cross the cuts (max above 1e-3), so the check can tell.
+"""
+
+import numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
+from vtkmodules.vtkImagingCore import vtkExtractVOI
+from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+
+import hovr
+from hovr import io as hio
+from hovrtesting import Checker, FloatFrames, image_from_array
+
+c = Checker()
+frames = FloatFrames((96, 96))
+GHOSTS = 4
+
+source = hovr.vtkMarschnerLobbSource()
+source.SetDimensions(33, 29, 25)
+source.Update()
+dims = source.GetOutput().GetDimensions()
+values = vtk_to_numpy(source.GetOutput().GetPointData().GetScalars()).reshape(
+    dims[2], dims[1], dims[0])
+x = numpy.linspace(-1.0, 1.0, dims[0])
+whole = image_from_array((values + 1.5 * x[None, None, :]).astype(numpy.float32))
+low, high = whole.GetPointData().GetScalars().GetRange()
+
+colour = vtkColorTransferFunction()
+for s, r, g, b in ((low, 0.1, 0.3, 0.9), (0.5 * (low + high), 1.0, 0.55, 0.15),
+                   (high, 1.0, 1.0, 0.9)):
+    colour.AddRGBPoint(s, r, g, b)
+opacity = vtkPiecewiseFunction()
+opacity.AddPoint(low, 0.0)
+for f, height in ((0.3, 0.8), (0.5, 0.9), (0.7, 0.9)):
+    peak = low + f * (high - low)
+    width = 0.01 * (high - low)
+    opacity.AddPoint(peak - width, 0.0)
+    opacity.AddPoint(peak, height)
+    opacity.AddPoint(peak + width, 0.0)
+opacity.AddPoint(high, 0.0)
+prop = vtkVolumeProperty()
+prop.SetColor(colour)
+prop.SetScalarOpacity(opacity)
+prop.SetScalarOpacityUnitDistance(2.0)
+prop.SetInterpolationTypeToLinear()
+step = 0.5 * min(whole.GetSpacing())
+
+
+def mapper(order):
+    m = hovr.vtkPreIntegrationVolumeMapper()
+    m.SetIntegration(order)
+    m.SetSampleDistance(step)
+    m.SetScalarRange(low, high)
+    m.SetWholeBounds(whole.GetBounds())
+    # Every piece's table measured on the whole volume, as the plugin does on every rank.
+    m.SetSizingVolume(whole)
+    return m
+
+
+def pieces(axis, count):
+    """(owned extent, the piece with its ghost points) for count pieces along axis, which share
+    their boundary planes of points, as ParaView's pieces do."""
+    extent = list(whole.GetExtent())
+    cuts = numpy.linspace(extent[2 * axis], extent[2 * axis + 1], count + 1).round().astype(int)
+    out = []
+    for k in range(count):
+        owned = list(extent)
+        owned[2 * axis], owned[2 * axis + 1] = int(cuts[k]), int(cuts[k + 1])
+        voi = list(owned)
+        voi[2 * axis] = max(owned[2 * axis] - GHOSTS, extent[2 * axis])
+        voi[2 * axis + 1] = min(owned[2 * axis + 1] + GHOSTS, extent[2 * axis + 1])
+        extract = vtkExtractVOI()
+        extract.SetInputData(whole)
+        extract.SetVOI(voi)
+        extract.Update()
+        piece = vtkImageData()
+        piece.ShallowCopy(extract.GetOutput())
+        out.append((owned, piece))
+    return out
+
+
+for perspective in (False, True):
+    camera = hio.default_camera(whole.GetBounds())
+    camera.SetParallelProjection(not perspective)
+    camera.Azimuth(30.0)
+    camera.Elevation(20.0)
+    eye = numpy.array(camera.GetPosition())
+    for order in (1, 2):
+        for shade in (False, True):
+            prop.SetShade(shade)
+            name = "order %d, %s, %s" % (order, "shaded" if shade else "unshaded",
+                                         "perspective" if perspective else "parallel")
+            reference, _ = frames.draw(mapper(order), whole, prop, camera)
+            c.check(reference[..., 3].max() > 0.3, "%s: the whole volume is drawn" % name)
+            for axis, count in ((0, 2), (1, 3)):
+                parts = pieces(axis, count)
+                # Front to back: by the distance of each piece's own middle from the eye
+                # along the cut axis.
+                spacing = whole.GetSpacing()[axis]
+                origin = whole.GetOrigin()[axis]
+                middle = [origin + 0.5 * (o[2 * axis] + o[2 * axis + 1]) * spacing
+                          for o, _ in parts]
+                ranked = sorted(range(count), key=lambda k: abs(middle[k] - eye[axis]))
+                for owned_extent in (True, False):
+                    over = numpy.zeros_like(reference)
+                    for k in ranked:
+                        owned, piece = parts[k]
+                        m = mapper(order)
+                        if owned_extent:
+                            m.SetOwnedExtent(owned)
+                        image, _ = frames.draw(m, piece, prop, camera)
+                        over = over + (1.0 - over[..., 3:4]) * image
+                    difference = numpy.abs(over - reference).max()
+                    label = "%s, %d pieces along %s" % (name, count, "xyz"[axis])
+                    if owned_extent:
+                        c.check(difference < 1e-4, "%s: composited front to back, the whole "
+                                "volume's image (max %.2e)" % (label, difference))
+                    else:
+                        c.check(difference > 1e-3, "%s: without OwnedExtent the cuts show "
+                                "(max %.2e)" % (label, difference))
+
+c.finish()
