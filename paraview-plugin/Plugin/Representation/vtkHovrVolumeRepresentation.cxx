@@ -12,6 +12,7 @@
 #include "vtkDataSet.h"
 #include "vtkPointData.h"
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
+#include "vtkExtractVOI.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -68,6 +69,7 @@ vtkHovrVolumeRepresentation::vtkHovrVolumeRepresentation()
   this->SetNormalArrayName(mapper->GetNormalArrayName());
   this->VolumeMapper = mapper;
   this->PreIntegrationMapper = mapper;
+  this->Cropper = vtkSmartPointer<vtkExtractVOI>::New();
   this->AnalyticMapper = vtkSmartPointer<vtkAnalyticVolumeMapper>::New();
   auto cpuMapper = vtkSmartPointer<vtkObjectOrderVolumeMapper>::New();
   vtkObjectOrderRayCaster* caster = cpuMapper->GetCaster();
@@ -133,11 +135,83 @@ double vtkHovrVolumeRepresentation::ComputeAutomaticSampleDistance()
 }
 
 //------------------------------------------------------------------------------
+void vtkHovrVolumeRepresentation::SetSampleDistance(double distance)
+{
+  if (distance != this->SampleDistance)
+  {
+    this->SampleDistance = distance;
+    // On several ranks the ghost points asked for depend on it.
+    this->MarkModified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::GhostLevels(double spacing)
+{
+  const double distance = this->SampleDistance > 0.0 ? this->SampleDistance : 0.5 * spacing;
+  if (!(spacing > 0.0) || !std::isfinite(distance / spacing))
+  {
+    return 4;
+  }
+  return static_cast<int>(std::min(std::ceil(2.0 * distance / spacing - 1e-9), 1e3)) + 2;
+}
+
+//------------------------------------------------------------------------------
+int vtkHovrVolumeRepresentation::RequestUpdateExtent(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  const int result = this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return result;
+  }
+  for (int k = 0; k < inputVector[0]->GetNumberOfInformationObjects(); ++k)
+  {
+    vtkInformation* info = inputVector[0]->GetInformationObject(k);
+    double spacing[3] = { 1.0, 1.0, 1.0 };
+    if (info->Has(vtkDataObject::SPACING()))
+    {
+      info->Get(vtkDataObject::SPACING(), spacing);
+    }
+    const double smallest = std::min(
+      std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+      this->GhostLevels(smallest));
+  }
+  return result;
+}
+
+//------------------------------------------------------------------------------
 int vtkHovrVolumeRepresentation::RequestData(vtkInformation* request,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)
 {
   const int result = this->Superclass::RequestData(request, inputVector, outputVector);
+  // The superclass crops the ghost points off into Cache (whose bounds order the pieces):
+  // its extent is the piece's own, and the piece with its ghost points is delivered instead.
+  std::fill(this->OwnedExtent, this->OwnedExtent + 6, 0);
+  this->OwnedExtent[1] = this->OwnedExtent[3] = this->OwnedExtent[5] = -1;
+  this->GhostWidth = 0;
+  auto* ghosted = vtkImageData::GetData(inputVector[0], 0);
+  auto* cropped = vtkImageData::SafeDownCast(this->Cache);
+  if (ghosted && cropped && ghosted->HasAnyGhostCells() && cropped->GetNumberOfPoints() > 0)
+  {
+    cropped->GetExtent(this->OwnedExtent);
+    const int* all = ghosted->GetExtent();
+    int width = VTK_INT_MAX;
+    for (int k = 0; k < 6; ++k)
+    {
+      // A face with ghost points past it (one of the whole volume's faces has none).
+      const int past = k % 2 == 0 ? this->OwnedExtent[k] - all[k] : all[k] - this->OwnedExtent[k];
+      width = past > 0 ? std::min(width, past) : width;
+    }
+    this->GhostWidth = width == VTK_INT_MAX ? 0 : width;
+    auto piece = vtkSmartPointer<vtkImageData>::New();
+    piece->ShallowCopy(ghosted);
+    this->Cache = piece;
+  }
   // Every rank takes part in the reduction, whatever its piece, so that none waits for a rank
   // that left early. Minima of: the range's low, -high, and the bounds' lows and -highs.
   double local[8];
@@ -305,6 +379,34 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   {
     data = this->Oracle->GetInputConnection(0, 0);
   }
+  if (data && data == this->Cropper->GetOutputPort())
+  {
+    data = this->Cropper->GetInputConnection(0, 0);
+  }
+  // The piece's ghost points (on several ranks) are read by pre-integration when they reach as
+  // far as its pieces of rays do; otherwise, and for the other methods, they are cropped off.
+  const bool ghosts = this->OwnedExtent[0] <= this->OwnedExtent[1];
+  bool readsGhosts = false;
+  if (ghosts && chosen == this->PreIntegrationMapper &&
+    (this->Integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
+      this->Integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER))
+  {
+    double spacing[3] = { 1.0, 1.0, 1.0 };
+    if (auto* piece = vtkImageData::SafeDownCast(this->Cache))
+    {
+      piece->GetSpacing(spacing);
+    }
+    const double smallest =
+      std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
+    readsGhosts = this->GhostWidth >= this->GhostLevels(smallest);
+  }
+  if (ghosts && !readsGhosts && data)
+  {
+    auto* cropper = vtkExtractVOI::SafeDownCast(this->Cropper);
+    cropper->SetVOI(this->OwnedExtent);
+    cropper->SetInputConnection(data);
+    data = cropper->GetOutputPort();
+  }
   const bool adaptive = chosen == this->AdaptiveRayMapper || chosen == this->AdaptivePyramidMapper;
   if (adaptive && data)
   {
@@ -314,6 +416,11 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   else
   {
     chosen->SetInputConnection(data);
+  }
+  if (auto* extensible = vtkExtensibleGPUVolumeRayCastMapper::SafeDownCast(chosen))
+  {
+    const int none[6] = { 0, -1, 0, -1, 0, -1 };
+    extensible->SetOwnedExtent(readsGhosts ? this->OwnedExtent : none);
   }
   this->VolumeMapper = chosen;
   // On several ranks a projection's pixels are composited by depth (see ProcessViewRequest),

@@ -30,7 +30,11 @@
  * and ParaView joins the images front to back ("over"). Every rank's mapper spans the whole
  * volume's scalar range and anchors its sampling to the whole volume's bounds (reduced over
  * the ranks when the data update: GetWholeScalarRange, GetWholeBounds), so that each piece is
- * drawn as the whole volume draws it. Pre-integration measures its table sizes on the whole
+ * drawn as the whole volume draws it. On several ranks the representation asks for ghost
+ * points around each piece (two sample distances and two points deep), and pre-integration
+ * draws each piece with them (vtkExtensibleGPUVolumeRayCastMapper::SetOwnedExtent: a segment or
+ * slab that starts in a piece is drawn whole, as the whole volume draws it); the other methods
+ * draw the piece without them. Pre-integration measures its table sizes on the whole
  * volume on every rank (put together from the pieces when the data update,
  * vtkWholeVolumeAssembler: every point up to 64 MiB of values, else every few points), so
  * that every rank draws the table one rank draws. A maximum or minimum over the
@@ -51,6 +55,8 @@
 #include "vtkImageVolumeRepresentation.h"
 #include "vtkImageData.h"    // For the sizing volume (vtkSmartPointer)
 #include "vtkSmartPointer.h" // For ivars
+
+class vtkAlgorithm;
 
 class vtkAdaptiveSamplingOracle;
 class vtkVolumeMapper;
@@ -91,9 +97,10 @@ public:
   /**
    * Distance between samples along a ray, in world units; 0 (or any value that is not
    * positive) chooses half the smallest grid spacing of the input (the mean spacing of a
-   * rectilinear grid), i.e. two samples per cell along its shortest edge. Initial value is 0.
+   * rectilinear grid), i.e. two samples per cell along its shortest edge. On several ranks a
+   * change asks for the ghost points it needs (see RequestUpdateExtent). Initial value is 0.
    */
-  vtkSetMacro(SampleDistance, double);
+  virtual void SetSampleDistance(double distance);
   vtkGetMacro(SampleDistance, double);
   ///@}
 
@@ -320,6 +327,15 @@ protected:
 
   // The superclass's, then the whole range and bounds over the ranks (a collective call: every
   // rank of the data server runs it).
+  // The superclass's, and on several ranks ghost points around the piece (GhostLevels()).
+  int RequestUpdateExtent(vtkInformation* request,
+    vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+  // Ghost points pre-integration reads past a piece at SampleDistance (or the automatic one)
+  // on a grid of the given smallest spacing: two sample distances and two points.
+  int GhostLevels(double spacing);
+
   int RequestData(vtkInformation* request,
     vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
@@ -383,6 +399,11 @@ protected:
   bool RefineInBackground = false;
   double WholeScalarRange[2] = { 1.0, 0.0 };
   vtkSmartPointer<vtkImageData> SizingVolume;
+  // On several ranks: the points of the piece without its ghost points (empty: none), and the
+  // piece without them for the methods that do not read ghost points.
+  int OwnedExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  int GhostWidth = 0; // the fewest ghost points past an owned face that has a neighbour
+  vtkSmartPointer<vtkAlgorithm> Cropper;
   int TableSizes[3] = { 0, 0, 0 };
   // What SizingVolume was assembled from on this rank: the array and its modification time.
   vtkDataArray* SizingSource = nullptr;

@@ -117,6 +117,24 @@ def image_difference(path, reference_path):
     return float(numpy.sqrt(numpy.mean((rgb - reference) ** 2)))
 
 
+def interior_difference(path, reference_path, margin=2):
+    """The largest difference of the RGB values (0-255) of two PNG files of the same size over
+    the pixels inside the silhouette: farther than margin pixels from any pixel that is
+    background (the corner's colour) in either image."""
+    rgb, size = read_rgb(path)
+    reference, _ = read_rgb(reference_path)
+    shape = (size[1], size[0], 3)
+    rgb, reference = rgb.reshape(shape), reference.reshape(shape)
+    background = (numpy.all(rgb == rgb[0, 0], axis=2) |
+                  numpy.all(reference == reference[0, 0], axis=2))
+    edge = background.copy()
+    for dy in range(-margin, margin + 1):
+        for dx in range(-margin, margin + 1):
+            edge |= numpy.roll(numpy.roll(background, dy, 0), dx, 1)
+    inside = numpy.abs(rgb - reference).max(axis=2)[~edge]
+    return float(inside.max()) if inside.size else 0.0
+
+
 # Bytes per table channel of the Table Precision entries (Automatic resolved by the caller).
 PRECISION_BYTES = {"8-bit": 1, "Half float": 2, "Float": 4}
 
