@@ -257,7 +257,7 @@ struct vtkPreIntegrationTableRefiner::vtkInternals
     }
     vtkSmartPointer<vtkSecondOrderPreIntegrationTable> table;
     return this->Build(job, sizes, ranges, measured->GetPrefilter(), stopped, table) ? table
-                                                                                      : nullptr;
+                                                                                     : nullptr;
   }
 
   // Sets table (a new one when null, else one whose entries it starts from) to the job's table

@@ -267,7 +267,10 @@ protected:
   }
   // An incremental build stopped part way keeps its entries: those that read none of the
   // samples it changed are still the last build's, and the next build integrates the others.
-  bool KeepsAbortedBuild() const override { return this->BuiltValid; }
+  bool KeepsAbortedBuild() const override
+  {
+    return this->BuiltValid;
+  }
 
 #ifndef __VTK_WRAP__
   // Whether the current settings and iteration table differ from the last build's only in

@@ -118,8 +118,7 @@ vtkWholeVolumeAssembler::~vtkWholeVolumeAssembler()
 }
 
 //------------------------------------------------------------------------------
-int vtkWholeVolumeAssembler::ComputeStride(
-  const int wholeExtent[6],
+int vtkWholeVolumeAssembler::ComputeStride(const int wholeExtent[6],
   int valueSize,
   double maximumBytes)
 {
@@ -150,8 +149,8 @@ bool vtkWholeVolumeAssembler::Prepare(vtkImageData* piece,
     return false;
   }
   if (scalars &&
-    (scalars->GetNumberOfComponents() != 1 || scalars->GetDataType() != dataType ||
-      !piece || scalars->GetNumberOfTuples() != piece->GetNumberOfPoints()))
+    (scalars->GetNumberOfComponents() != 1 || scalars->GetDataType() != dataType || !piece ||
+      scalars->GetNumberOfTuples() != piece->GetNumberOfPoints()))
   {
     vtkErrorMacro("The piece's scalars must be one point value of type "
       << dataType << " per point of the piece.");
@@ -190,12 +189,13 @@ bool vtkWholeVolumeAssembler::Prepare(vtkImageData* piece,
   const int* pieceExtent = piece ? piece->GetExtent() : wholeExtent;
   switch (dataType)
   {
-    vtkTemplateMacro(Fill(scalars ? static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)) : nullptr,
-      pieceExtent,
-      wholeExtent,
-      stride,
-      static_cast<VTK_TT*>(this->Values->GetVoidPointer(0)),
-      this->Coverage->GetPointer(0)));
+    vtkTemplateMacro(
+      Fill(scalars ? static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)) : nullptr,
+        pieceExtent,
+        wholeExtent,
+        stride,
+        static_cast<VTK_TT*>(this->Values->GetVoidPointer(0)),
+        this->Coverage->GetPointer(0)));
     default:
       vtkErrorMacro("Scalars of type " << dataType << " are not supported.");
       return false;
@@ -233,8 +233,7 @@ bool vtkWholeVolumeAssembler::Finish(vtkDataArray* values,
   scalars->SetName(name);
   switch (scalars->GetDataType())
   {
-    vtkTemplateMacro(
-      RestoreNaN(static_cast<VTK_TT*>(scalars->GetVoidPointer(0)), held, total));
+    vtkTemplateMacro(RestoreNaN(static_cast<VTK_TT*>(scalars->GetVoidPointer(0)), held, total));
   }
   output->Initialize();
   output->SetDirectionMatrix(piece->GetDirectionMatrix());

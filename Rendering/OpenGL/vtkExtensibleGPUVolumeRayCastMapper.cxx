@@ -536,8 +536,8 @@ void vtkExtensibleGPUVolumeRayCastMapper::GetOwnedIndexBox(int lo[3], int hi[3])
   for (int a = 0; a < 3; ++a)
   {
     lo[a] = some ? std::max(owned[2 * a], extent[2 * a]) - extent[2 * a] : 0;
-    hi[a] = (some ? std::min(owned[2 * a + 1], extent[2 * a + 1]) : extent[2 * a + 1]) -
-      extent[2 * a];
+    hi[a] =
+      (some ? std::min(owned[2 * a + 1], extent[2 * a + 1]) : extent[2 * a + 1]) - extent[2 * a];
   }
 }
 

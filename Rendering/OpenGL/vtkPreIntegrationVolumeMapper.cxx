@@ -647,9 +647,8 @@ bool vtkPreIntegrationVolumeMapper::SizeTable(vtkOpenGLRenderWindow* context,
     return true;
   }
   // Measured on the whole volume when the input is a piece of it.
-  vtkDataArray* sizingScalars = this->SizingVolume
-    ? this->SizingVolume->GetPointData()->GetScalars()
-    : nullptr;
+  vtkDataArray* sizingScalars =
+    this->SizingVolume ? this->SizingVolume->GetPointData()->GetScalars() : nullptr;
   if (this->SizingVolume &&
     (!sizingScalars || sizingScalars->GetNumberOfComponents() != 1 ||
       sizingScalars->GetNumberOfTuples() != this->SizingVolume->GetNumberOfPoints()))

@@ -10,7 +10,6 @@
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
-#include "vtkPointData.h"
 #include "vtkExtensibleGPUVolumeRayCastMapper.h"
 #include "vtkExtractVOI.h"
 #include "vtkImageData.h"
@@ -24,6 +23,7 @@
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
 #include "vtkPVRenderView.h"
 #include "vtkPVView.h"
+#include "vtkPointData.h"
 #include "vtkPreIntegrationTableRefiner.h"
 #include "vtkPreIntegrationTableSizing.h"
 #include "vtkPreIntegrationVolumeMapper.h"
@@ -175,8 +175,8 @@ int vtkHovrVolumeRepresentation::RequestUpdateExtent(vtkInformation* request,
     {
       info->Get(vtkDataObject::SPACING(), spacing);
     }
-    const double smallest = std::min(
-      std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
+    const double smallest =
+      std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
     info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(),
       this->GhostLevels(smallest));
   }
@@ -296,8 +296,14 @@ void vtkHovrVolumeRepresentation::AssembleSizingVolume(vtkInformation* inInfo,
       scalars->GetMTime() != this->SizingSourceTime);
   // Minima of: minus the array's type, the whole extent's lows and minus its highs, and minus
   // whether this rank needs the whole volume again (its array changed).
-  int local[8] = { VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX, VTK_INT_MAX,
-    VTK_INT_MAX, needed ? -1 : 0 };
+  int local[8] = { VTK_INT_MAX,
+    VTK_INT_MAX,
+    VTK_INT_MAX,
+    VTK_INT_MAX,
+    VTK_INT_MAX,
+    VTK_INT_MAX,
+    VTK_INT_MAX,
+    needed ? -1 : 0 };
   if (point)
   {
     local[0] = -scalars->GetDataType();

@@ -52,8 +52,8 @@
 #define vtkHovrVolumeRepresentation_h
 
 #include "hovrParaViewRepresentationModule.h" // For export macro
+#include "vtkImageData.h"                     // For the sizing volume (vtkSmartPointer)
 #include "vtkImageVolumeRepresentation.h"
-#include "vtkImageData.h"    // For the sizing volume (vtkSmartPointer)
 #include "vtkSmartPointer.h" // For ivars
 
 class vtkAlgorithm;

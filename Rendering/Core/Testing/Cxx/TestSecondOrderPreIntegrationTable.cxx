@@ -1091,8 +1091,7 @@ int TestSecondOrderPreIntegrationTable(int, char*[])
     configured(taker);
     check(taker->TakeEntries(table), "TakeEntries: a complete build at its settings is taken");
     check(table->GetTable()->GetNumberOfTuples() == 0, "TakeEntries: the other keeps none");
-    check(taker->Update() && taker->GetLastBuildEntries() > 0 &&
-        taker->GetLastBuildEntries() < all,
+    check(taker->Update() && taker->GetLastBuildEntries() > 0 && taker->GetLastBuildEntries() < all,
       "TakeEntries: the taker's build integrates only what the edit reaches (" +
         std::to_string(taker->GetLastBuildEntries()) + " of " + std::to_string(all) + ")");
     sameAsFresh(taker, "TakeEntries");
