@@ -66,6 +66,32 @@ def image_from_array(values, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)):
     return image
 
 
+def cut_pieces(image, axis, count, ghosts=0):
+    """``image`` cut into ``count`` pieces along ``axis`` that share their boundary planes of
+    points, as ParaView's pieces do: (the piece's own extent, the piece with up to ``ghosts``
+    ghost points past each face it shares)."""
+    import numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    extent = list(image.GetExtent())
+    cuts = numpy.linspace(extent[2 * axis], extent[2 * axis + 1], count + 1).round().astype(int)
+    out = []
+    for k in range(count):
+        owned = list(extent)
+        owned[2 * axis], owned[2 * axis + 1] = int(cuts[k]), int(cuts[k + 1])
+        voi = list(owned)
+        voi[2 * axis] = max(owned[2 * axis] - ghosts, extent[2 * axis])
+        voi[2 * axis + 1] = min(owned[2 * axis + 1] + ghosts, extent[2 * axis + 1])
+        extract = vtkExtractVOI()
+        extract.SetInputData(image)
+        extract.SetVOI(voi)
+        extract.Update()
+        piece = vtkImageData()
+        piece.ShallowCopy(extract.GetOutput())
+        out.append((owned, piece))
+    return out
+
+
 def rgba(image):
     """The RGBA array of a rendered image as an (H, W, 4) numpy array."""
     from vtkmodules.util.numpy_support import vtk_to_numpy

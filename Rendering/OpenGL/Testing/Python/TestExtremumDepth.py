@@ -15,12 +15,11 @@ stays 1 everywhere (the mapper writes none).
 
 import numpy
 from vtkmodules.vtkCommonCore import vtkFloatArray
-from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkImagingCore import vtkExtractVOI
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, FloatFrames, blobs, image_from_array, spike_property
+from hovrtesting import (Checker, FloatFrames, blobs, cut_pieces, image_from_array,
+                         spike_property)
 
 c = Checker()
 SIZE = 64
@@ -52,20 +51,7 @@ def draw(data, blend, depth):
 
 def pieces(axis, count):
     """The volume cut into ``count`` pieces along ``axis`` that share their boundary planes."""
-    extent = list(whole.GetExtent())
-    cuts = numpy.linspace(extent[2 * axis], extent[2 * axis + 1], count + 1).round().astype(int)
-    out = []
-    for k in range(count):
-        voi = list(extent)
-        voi[2 * axis], voi[2 * axis + 1] = int(cuts[k]), int(cuts[k + 1])
-        extract = vtkExtractVOI()
-        extract.SetInputData(whole)
-        extract.SetVOI(voi)
-        extract.Update()
-        piece = vtkImageData()
-        piece.ShallowCopy(extract.GetOutput())
-        out.append(piece)
-    return out
+    return [piece for _, piece in cut_pieces(whole, axis, count)]
 
 
 for blend, name in ((hovr.vtkAnalyticVolumeMapper.MAXIMUM_INTENSITY_BLEND, "MIP"),

@@ -16,13 +16,12 @@ gives its own points. For both orders, unshaded and shaded, parallel and perspec
 
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
-from vtkmodules.vtkImagingCore import vtkExtractVOI
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, FloatFrames, image_from_array
+from hovrtesting import Checker, FloatFrames, cut_pieces, image_from_array
 
 c = Checker()
 frames = FloatFrames((96, 96))
@@ -71,25 +70,8 @@ def mapper(order):
 
 
 def pieces(axis, count):
-    """(owned extent, the piece with its ghost points) for count pieces along axis, which share
-    their boundary planes of points, as ParaView's pieces do."""
-    extent = list(whole.GetExtent())
-    cuts = numpy.linspace(extent[2 * axis], extent[2 * axis + 1], count + 1).round().astype(int)
-    out = []
-    for k in range(count):
-        owned = list(extent)
-        owned[2 * axis], owned[2 * axis + 1] = int(cuts[k]), int(cuts[k + 1])
-        voi = list(owned)
-        voi[2 * axis] = max(owned[2 * axis] - GHOSTS, extent[2 * axis])
-        voi[2 * axis + 1] = min(owned[2 * axis + 1] + GHOSTS, extent[2 * axis + 1])
-        extract = vtkExtractVOI()
-        extract.SetInputData(whole)
-        extract.SetVOI(voi)
-        extract.Update()
-        piece = vtkImageData()
-        piece.ShallowCopy(extract.GetOutput())
-        out.append((owned, piece))
-    return out
+    """(owned extent, the piece with its ghost points) for count pieces along axis."""
+    return cut_pieces(whole, axis, count, GHOSTS)
 
 
 for perspective in (False, True):
