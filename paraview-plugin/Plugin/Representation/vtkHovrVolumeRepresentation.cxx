@@ -170,6 +170,10 @@ int vtkHovrVolumeRepresentation::RequestUpdateExtent(vtkInformation* request,
   for (int k = 0; k < inputVector[0]->GetNumberOfInformationObjects(); ++k)
   {
     vtkInformation* info = inputVector[0]->GetInformationObject(k);
+    if (!vtkImageData::SafeDownCast(info->Get(vtkDataObject::DATA_OBJECT())))
+    {
+      continue; // ghost points are cropped off image data only
+    }
     double spacing[3] = { 1.0, 1.0, 1.0 };
     if (info->Has(vtkDataObject::SPACING()))
     {
