@@ -49,6 +49,13 @@ bool IsProjection(int integration)
   return integration == vtkHovrVolumeRepresentation::ANALYTIC_MIP ||
     integration == vtkHovrVolumeRepresentation::ANALYTIC_MINIP;
 }
+
+// Whether an Integration value pre-integrates (measures table sizes, reads ghost points).
+bool IsPreIntegration(int integration)
+{
+  return integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
+    integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -274,7 +281,8 @@ void vtkHovrVolumeRepresentation::AssembleSizingVolume(vtkInformation* inInfo,
   vtkDataArray* scalars)
 {
   auto* controller = vtkMultiProcessController::GetGlobalController();
-  if (!controller || controller->GetNumberOfProcesses() < 2)
+  // (The Integration value is the same on every rank.)
+  if (!controller || controller->GetNumberOfProcesses() < 2 || !IsPreIntegration(this->Integration))
   {
     this->SizingVolume = nullptr;
     this->SizingSource = nullptr;
@@ -397,9 +405,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   // far as its pieces of rays do; otherwise, and for the other methods, they are cropped off.
   const bool ghosts = this->OwnedExtent[0] <= this->OwnedExtent[1];
   bool readsGhosts = false;
-  if (ghosts && chosen == this->PreIntegrationMapper &&
-    (this->Integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
-      this->Integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER))
+  if (ghosts && chosen == this->PreIntegrationMapper && IsPreIntegration(this->Integration))
   {
     double spacing[3] = { 1.0, 1.0, 1.0 };
     if (auto* piece = vtkImageData::SafeDownCast(this->Cache))
@@ -592,13 +598,15 @@ void vtkHovrVolumeRepresentation::SetIntegration(int integration)
   {
     return;
   }
-  const bool changes = IsProjection(integration) != IsProjection(this->Integration);
+  const bool changes = IsProjection(integration) != IsProjection(this->Integration) ||
+    IsPreIntegration(integration) != IsPreIntegration(this->Integration);
   this->Integration = integration;
   this->Modified();
   if (changes)
   {
-    // The view asks its representations again whether it composites in order. Every process
-    // marks it (a client and its server alike), so that they update together.
+    // The view asks its representations again whether it composites in order, and the data
+    // update puts the sizing volume together (or drops it). Every process marks it (a client
+    // and its server alike), so that they update together.
     this->MarkModified();
   }
 }
@@ -638,9 +646,7 @@ int* vtkHovrVolumeRepresentation::GetTableSizes()
 {
   std::fill(this->TableSizes, this->TableSizes + 3, 0);
   auto* mapper = vtkPreIntegrationVolumeMapper::SafeDownCast(this->VolumeMapper);
-  if (mapper &&
-    (this->Integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
-      this->Integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER))
+  if (mapper && IsPreIntegration(this->Integration))
   {
     vtkSecondOrderPreIntegrationTable* table = mapper->GetActiveTable();
     this->TableSizes[0] = table->GetTableSize();

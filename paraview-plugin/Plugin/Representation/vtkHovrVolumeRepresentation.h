@@ -310,8 +310,9 @@ public:
    * (vtkPreIntegrationVolumeMapper::SetSizingVolume): the whole volume's coloured point array
    * at a stride (1 while its values take at most 64 MiB, 256^3 float values; beyond, every
    * second, third ... point along each axis), put together from every rank's piece when the
-   * data update. nullptr on one rank (the input is the whole volume), on a rank without data,
-   * or for cell or multi-component arrays.
+   * data update, for the pre-integration methods. nullptr on one rank (the input is the whole
+   * volume), for the other methods, on a rank without data, or for cell or multi-component
+   * arrays.
    */
   vtkImageData* GetSizingVolume() { return this->SizingVolume; }
 
