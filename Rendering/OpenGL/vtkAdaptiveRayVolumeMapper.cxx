@@ -594,6 +594,20 @@ void vtkAdaptiveRayVolumeMapper::SetExtensionShaderParameters(vtkShaderProgram* 
   program->SetUniform2f("hovr_rawToTable", internal.RawToTable);
   program->SetUniformi("hovr_perspective", internal.Perspective);
   program->SetUniform3f("hovr_sliceOrigin", internal.SliceOrigin);
+  // A piece with ghost points walks in its own points only (see the GLSL).
+  const int* owned = this->OwnedExtent;
+  const bool some = owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5];
+  int lo[3], hi[3];
+  this->GetOwnedIndexBox(lo, hi);
+  const float ownedLo[3] = {
+    static_cast<float>(lo[0]), static_cast<float>(lo[1]), static_cast<float>(lo[2])
+  };
+  const float ownedHi[3] = {
+    static_cast<float>(hi[0]), static_cast<float>(hi[1]), static_cast<float>(hi[2])
+  };
+  program->SetUniformi("hovr_owned", some ? 1 : 0);
+  program->SetUniform3f("hovr_ownedLo", ownedLo);
+  program->SetUniform3f("hovr_ownedHi", ownedHi);
   program->SetUniformf("hovr_sliceStart", internal.SliceStart);
   if (internal.UseOracle)
   {

@@ -167,9 +167,12 @@ public:
    * as the ParaView plugin sets it): the piece without them. With WholeBounds, pre-integration
    * then walks each ray as the whole volume does, and a segment or slab that starts in the
    * owned points is drawn whole, reading the ghost points past them, so that the pieces
-   * composited front to back give the whole volume's image. The ghost points must reach two
-   * sample distances and two points past the owned ones. An empty extent (a minimum above its
-   * maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
+   * composited front to back give the whole volume's image; its ghost points must reach two
+   * sample distances and two points past the owned ones. The adaptive ray walks from and to
+   * the slices every walk samples (multiples of 2^MaximumLevel), so that its pieces' walks join
+   * into the whole volume's; its ghost points, and those its oracle was computed with, must
+   * reach 2^(MaximumLevel + 1) sample distances and two points. An empty extent (a minimum
+   * above its maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
    */
   vtkSetVector6Macro(OwnedExtent, int);
   vtkGetVector6Macro(OwnedExtent, int);

@@ -24,6 +24,15 @@
 // Centre-axis table coordinate of a raw texture value: raw * x + y.
 uniform vec2 hovr_rawToTable;
 
+// A piece with ghost points (OwnedExtent): its own points (0-based grid index). Samples on
+// multiples of 2^l_max slices are taken by every walk, the whole volume's too: where a ray
+// enters the own points from ghost points, the walk starts on the first such slice in them,
+// and where it leaves them into ghost points, it ends on the first such slice past them, so
+// that the pieces' walks join into the whole volume's.
+uniform int hovr_owned;
+uniform vec3 hovr_ownedLo;
+uniform vec3 hovr_ownedHi;
+
 // Steps (in units of g_dirStep) from pos to where the ray leaves the volume's box.
 float hovr_stepsToExit(vec3 pos)
 {
@@ -185,7 +194,8 @@ void hovr_adaptiveInit()
   hovr_entry = g_dataPos - g_rayJitter;
   hovr_jitter = length(g_rayJitter) / length(g_dirStep);
   // VTK counts g_terminatePointMax from its first sample, one jitter offset inside.
-  hovr_endSteps = min(hovr_stepsToExit(hovr_entry), g_terminatePointMax + hovr_jitter);
+  float boxExit = hovr_stepsToExit(hovr_entry);
+  hovr_endSteps = min(boxExit, g_terminatePointMax + hovr_jitter);
   hovr_entrySlice = hovr_sliceCoordinate(ip_vertexPos.xyz, computeRayDirection());
   hovr_frontSlice = hovr_entrySlice;
   hovr_sFront = hovr_sampleCoord(hovr_entry);
@@ -193,6 +203,46 @@ void hovr_adaptiveInit()
   // A ray entering within rounding of a slice starts on it (an axis-aligned view enters on
   // slice 0 exactly).
   float first = ceil(hovr_entrySlice - 1e-3);
+  if (hovr_owned != 0 && !hovr_done)
+  {
+    // Where the ray is in the own points, in steps from the entry.
+    vec3 g0 = hovr_gridOf(hovr_entry);
+    vec3 dg = hovr_gridOf(hovr_entry + g_dirStep) - g0;
+    vec2 span = vec2(-1e30, 1e30);
+    for (int a = 0; a < 3; ++a)
+    {
+      if (dg[a] != 0.0)
+      {
+        float ta = (hovr_ownedLo[a] - g0[a]) / dg[a];
+        float tb = (hovr_ownedHi[a] - g0[a]) / dg[a];
+        span = vec2(max(span.x, min(ta, tb)), min(span.y, max(ta, tb)));
+      }
+      else if (g0[a] < hovr_ownedLo[a] || g0[a] > hovr_ownedHi[a])
+      {
+        span = vec2(1.0, 0.0);
+      }
+    }
+    if (!(span.x < span.y) || span.y <= 0.0 || span.x >= hovr_endSteps)
+    {
+      hovr_done = true; // the ray crosses ghost points alone
+      g_exit = true;
+      return;
+    }
+    float aligned = hovr_maximumSpan;
+    if (span.x > 1e-4)
+    {
+      // Entering the own points from ghost points: the first aligned slice in them.
+      first = ceil((hovr_entrySlice + span.x) / aligned - 1e-4) * aligned;
+      hovr_frontSlice = first;
+      hovr_sFront = hovr_sampleCoord(hovr_entry + (first - hovr_entrySlice) * g_dirStep);
+    }
+    if (span.y < boxExit - 1e-4)
+    {
+      // Leaving them into ghost points: the walk ends on the first aligned slice past them.
+      float last = ceil((hovr_entrySlice + span.y) / aligned - 1e-4) * aligned;
+      hovr_endSteps = min(hovr_endSteps, last - hovr_entrySlice);
+    }
+  }
   if (hovr_done || first - hovr_entrySlice > hovr_endSteps)
   {
     g_exit = true; // no slice before the end: the exit integrates entry to end

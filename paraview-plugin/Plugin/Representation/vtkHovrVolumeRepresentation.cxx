@@ -50,11 +50,26 @@ bool IsProjection(int integration)
     integration == vtkHovrVolumeRepresentation::ANALYTIC_MINIP;
 }
 
-// Whether an Integration value pre-integrates (measures table sizes, reads ghost points).
+// Whether an Integration value pre-integrates (measures its table sizes).
 bool IsPreIntegration(int integration)
 {
   return integration == vtkPreIntegrationVolumeMapper::FIRST_ORDER ||
     integration == vtkPreIntegrationVolumeMapper::SECOND_ORDER;
+}
+
+// Which ghost points a method reads on several ranks: none (its piece is cropped), those of
+// pre-integration's slabs, or those of the adaptive ray's walk and oracle.
+enum GhostKinds
+{
+  NO_GHOSTS,
+  PRE_INTEGRATION_GHOSTS,
+  ADAPTIVE_RAY_GHOSTS
+};
+int GhostKind(int integration)
+{
+  return IsPreIntegration(integration)                         ? PRE_INTEGRATION_GHOSTS
+    : integration == vtkHovrVolumeRepresentation::ADAPTIVE_RAY ? ADAPTIVE_RAY_GHOSTS
+                                                               : NO_GHOSTS;
 }
 }
 
@@ -153,14 +168,35 @@ void vtkHovrVolumeRepresentation::SetSampleDistance(double distance)
 }
 
 //------------------------------------------------------------------------------
+void vtkHovrVolumeRepresentation::SetMaximumLevel(int level)
+{
+  if (level != this->MaximumLevel)
+  {
+    this->MaximumLevel = level;
+    // On several ranks the adaptive ray's ghost points depend on it.
+    this->MarkModified();
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkHovrVolumeRepresentation::GhostLevels(double spacing)
 {
+  // Pre-integration reads a slab (two sample distances) past a piece; the adaptive ray walks to
+  // the next slice of 2^l_max and its oracle sees as far again.
+  const int kind = GhostKind(this->Integration);
+  if (kind == NO_GHOSTS)
+  {
+    return 0;
+  }
+  const double reach = kind == PRE_INTEGRATION_GHOSTS
+    ? 2.0
+    : std::ldexp(2.0, std::min(std::max(this->MaximumLevel, 0), 16));
   const double distance = this->SampleDistance > 0.0 ? this->SampleDistance : 0.5 * spacing;
   if (!(spacing > 0.0) || !std::isfinite(distance / spacing))
   {
-    return 4;
+    return static_cast<int>(reach) + 2;
   }
-  return static_cast<int>(std::min(std::ceil(2.0 * distance / spacing - 1e-9), 1e3)) + 2;
+  return static_cast<int>(std::min(std::ceil(reach * distance / spacing - 1e-9), 1e3)) + 2;
 }
 
 //------------------------------------------------------------------------------
@@ -188,8 +224,11 @@ int vtkHovrVolumeRepresentation::RequestUpdateExtent(vtkInformation* request,
     }
     const double smallest =
       std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(),
-      this->GhostLevels(smallest));
+    const int levels = this->GhostLevels(smallest);
+    if (levels > 0)
+    {
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), levels);
+    }
   }
   return result;
 }
@@ -393,19 +432,20 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   // The data: what the render view connected to the current mapper, unless that is the
   // oracle's output (a second call without a render request in between).
   vtkAlgorithmOutput* data = this->VolumeMapper->GetInputConnection(0, 0);
-  if (data && data == this->Oracle->GetOutputPort())
-  {
-    data = this->Oracle->GetInputConnection(0, 0);
-  }
   if (data && data == this->Cropper->GetOutputPort())
   {
     data = this->Cropper->GetInputConnection(0, 0);
   }
-  // The piece's ghost points (on several ranks) are read by pre-integration when they reach as
-  // far as its pieces of rays do; otherwise, and for the other methods, they are cropped off.
+  if (data && data == this->Oracle->GetOutputPort())
+  {
+    data = this->Oracle->GetInputConnection(0, 0);
+  }
+  // The piece's ghost points (on several ranks) are read by pre-integration and the adaptive
+  // ray when they reach as far as those need; otherwise, and for the other methods, they are
+  // cropped off (after the oracle, which is computed with them).
   const bool ghosts = this->OwnedExtent[0] <= this->OwnedExtent[1];
   bool readsGhosts = false;
-  if (ghosts && chosen == this->PreIntegrationMapper && IsPreIntegration(this->Integration))
+  if (ghosts && GhostKind(this->Integration) != NO_GHOSTS)
   {
     double spacing[3] = { 1.0, 1.0, 1.0 };
     if (auto* piece = vtkImageData::SafeDownCast(this->Cache))
@@ -416,6 +456,12 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
       std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
     readsGhosts = this->GhostWidth >= this->GhostLevels(smallest);
   }
+  const bool adaptive = chosen == this->AdaptiveRayMapper || chosen == this->AdaptivePyramidMapper;
+  if (adaptive && data)
+  {
+    this->Oracle->SetInputConnection(data);
+    data = this->Oracle->GetOutputPort();
+  }
   if (ghosts && !readsGhosts && data)
   {
     auto* cropper = vtkExtractVOI::SafeDownCast(this->Cropper);
@@ -423,16 +469,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     cropper->SetInputConnection(data);
     data = cropper->GetOutputPort();
   }
-  const bool adaptive = chosen == this->AdaptiveRayMapper || chosen == this->AdaptivePyramidMapper;
-  if (adaptive && data)
-  {
-    this->Oracle->SetInputConnection(data);
-    chosen->SetInputConnection(this->Oracle->GetOutputPort());
-  }
-  else
-  {
-    chosen->SetInputConnection(data);
-  }
+  chosen->SetInputConnection(data);
   if (auto* extensible = vtkExtensibleGPUVolumeRayCastMapper::SafeDownCast(chosen))
   {
     const int none[6] = { 0, -1, 0, -1, 0, -1 };
@@ -599,14 +636,16 @@ void vtkHovrVolumeRepresentation::SetIntegration(int integration)
     return;
   }
   const bool changes = IsProjection(integration) != IsProjection(this->Integration) ||
-    IsPreIntegration(integration) != IsPreIntegration(this->Integration);
+    IsPreIntegration(integration) != IsPreIntegration(this->Integration) ||
+    GhostKind(integration) != GhostKind(this->Integration);
   this->Integration = integration;
   this->Modified();
   if (changes)
   {
     // The view asks its representations again whether it composites in order, and the data
-    // update puts the sizing volume together (or drops it). Every process marks it (a client
-    // and its server alike), so that they update together.
+    // update puts the sizing volume together (or drops it) and asks for the ghost points the
+    // method reads. Every process marks it (a client and its server alike), so that they
+    // update together.
     this->MarkModified();
   }
 }

@@ -33,8 +33,10 @@
  * drawn as the whole volume draws it. On several ranks the representation asks for ghost
  * points around each piece (two sample distances and two points deep), and pre-integration
  * draws each piece with them (vtkExtensibleGPUVolumeRayCastMapper::SetOwnedExtent: a segment or
- * slab that starts in a piece is drawn whole, as the whole volume draws it); the other methods
- * draw the piece without them. Pre-integration measures its table sizes on the whole
+ * slab that starts in a piece is drawn whole, as the whole volume draws it), and so does the
+ * adaptive ray (2^(l_max + 1) sample distances and two points deep: its walk joins the whole
+ * volume's on the slices every walk samples, and its oracle is computed with them); the other
+ * methods draw the piece without them. Pre-integration measures its table sizes on the whole
  * volume on every rank (put together from the pieces when the data update,
  * vtkWholeVolumeAssembler: every point up to 64 MiB of values, else every few points), so
  * that every rank draws the table one rank draws. A maximum or minimum over the
@@ -226,9 +228,10 @@ public:
    * 2^l_max base steps; initial value 3, the paper's), OracleMode a value of
    * vtkAdaptiveSamplingOracle::Modes (initial value OPACITY_RANGE; MIN samples at the full
    * rate) and OracleEpsilon its feature threshold (initial value 0.002). The mappers and the
-   * filter validate them.
+   * filter validate them. On several ranks a new MaximumLevel asks for the ghost points the
+   * adaptive ray then reads.
    */
-  vtkSetMacro(MaximumLevel, int);
+  virtual void SetMaximumLevel(int level);
   vtkGetMacro(MaximumLevel, int);
   vtkSetMacro(OracleMode, int);
   vtkGetMacro(OracleMode, int);
