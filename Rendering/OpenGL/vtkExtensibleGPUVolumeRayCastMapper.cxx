@@ -500,9 +500,15 @@ void vtkExtensibleGPUVolumeRayCastMapper::GetWholeIndexBox(double lo[3], double 
     lo[a] = 0.0;
     hi[a] = dims[a] - 1.0;
   }
-  double whole[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
+  if (!input)
+  {
+    return;
+  }
+  // The input's bounds widened to WholeBounds (which hold them when they are a piece's).
+  double whole[6];
+  input->GetBounds(whole);
   this->CoverWholeBounds(whole);
-  if (!input || !(whole[0] <= whole[1]))
+  if (!(whole[0] <= whole[1]))
   {
     return;
   }

@@ -38,7 +38,9 @@ dims = source.GetOutput().GetDimensions()
 values = vtk_to_numpy(source.GetOutput().GetPointData().GetScalars()).reshape(
     dims[2], dims[1], dims[0])
 x = numpy.linspace(-1.0, 1.0, dims[0])
-whole = image_from_array((values + 1.5 * x[None, None, :]).astype(numpy.float32))
+# Away from the origin: the whole box in a piece's grid index is computed from its bounds.
+whole = image_from_array((values + 1.5 * x[None, None, :]).astype(numpy.float32),
+                         origin=(5.0, -3.0, 2.0))
 low, high = whole.GetPointData().GetScalars().GetRange()
 
 colour = vtkColorTransferFunction()
