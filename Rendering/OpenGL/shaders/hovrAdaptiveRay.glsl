@@ -194,8 +194,7 @@ void hovr_adaptiveInit()
   hovr_entry = g_dataPos - g_rayJitter;
   hovr_jitter = length(g_rayJitter) / length(g_dirStep);
   // VTK counts g_terminatePointMax from its first sample, one jitter offset inside.
-  float boxExit = hovr_stepsToExit(hovr_entry);
-  hovr_endSteps = min(boxExit, g_terminatePointMax + hovr_jitter);
+  hovr_endSteps = min(hovr_stepsToExit(hovr_entry), g_terminatePointMax + hovr_jitter);
   hovr_entrySlice = hovr_sliceCoordinate(ip_vertexPos.xyz, computeRayDirection());
   hovr_frontSlice = hovr_entrySlice;
   hovr_sFront = hovr_sampleCoord(hovr_entry);
@@ -205,17 +204,33 @@ void hovr_adaptiveInit()
   float first = ceil(hovr_entrySlice - 1e-3);
   if (hovr_owned != 0 && !hovr_done)
   {
-    // Where the ray is in the own points, in steps from the entry.
+    // Where the ray is in the own points, in steps from the entry, and whether it enters them
+    // from ghost points and leaves them into ghost points: told by the faces it crosses (an
+    // own face that is not the input's has ghost points past it), not by comparing rounded
+    // distances.
     vec3 g0 = hovr_gridOf(hovr_entry);
     vec3 dg = hovr_gridOf(hovr_entry + g_dirStep) - g0;
+    vec3 last = vec3(hovr_atlasGrid[0], hovr_atlasGrid[1], hovr_atlasGrid[2]);
     vec2 span = vec2(-1e30, 1e30);
+    bool fromGhosts = false, intoGhosts = false;
     for (int a = 0; a < 3; ++a)
     {
       if (dg[a] != 0.0)
       {
         float ta = (hovr_ownedLo[a] - g0[a]) / dg[a];
         float tb = (hovr_ownedHi[a] - g0[a]) / dg[a];
-        span = vec2(max(span.x, min(ta, tb)), min(span.y, max(ta, tb)));
+        bool up = dg[a] > 0.0;
+        bool ghostsBelow = hovr_ownedLo[a] > 0.5, ghostsAbove = hovr_ownedHi[a] < last[a] - 0.5;
+        if (min(ta, tb) > span.x)
+        {
+          span.x = min(ta, tb);
+          fromGhosts = up ? ghostsBelow : ghostsAbove;
+        }
+        if (max(ta, tb) < span.y)
+        {
+          span.y = max(ta, tb);
+          intoGhosts = up ? ghostsAbove : ghostsBelow;
+        }
       }
       else if (g0[a] < hovr_ownedLo[a] || g0[a] > hovr_ownedHi[a])
       {
@@ -229,18 +244,18 @@ void hovr_adaptiveInit()
       return;
     }
     float aligned = hovr_maximumSpan;
-    if (span.x > 1e-4)
+    if (fromGhosts)
     {
       // Entering the own points from ghost points: the first aligned slice in them.
       first = ceil((hovr_entrySlice + span.x) / aligned - 1e-4) * aligned;
       hovr_frontSlice = first;
       hovr_sFront = hovr_sampleCoord(hovr_entry + (first - hovr_entrySlice) * g_dirStep);
     }
-    if (span.y < boxExit - 1e-4)
+    if (intoGhosts)
     {
       // Leaving them into ghost points: the walk ends on the first aligned slice past them.
-      float last = ceil((hovr_entrySlice + span.y) / aligned - 1e-4) * aligned;
-      hovr_endSteps = min(hovr_endSteps, last - hovr_entrySlice);
+      float end = ceil((hovr_entrySlice + span.y) / aligned - 1e-4) * aligned;
+      hovr_endSteps = min(hovr_endSteps, end - hovr_entrySlice);
     }
   }
   if (hovr_done || first - hovr_entrySlice > hovr_endSteps)
