@@ -92,6 +92,19 @@ def cut_pieces(image, axis, count, ghosts=0):
     return out
 
 
+def with_oracle(image, prop, lmax=3):
+    """``image`` with the oracle of vtkAdaptiveSamplingOracle for ``prop``'s opacity, its
+    distances capped at 2^lmax of the smallest spacing."""
+    import hovr
+    oracle = hovr.vtkAdaptiveSamplingOracle()
+    oracle.SetInputData(image)
+    oracle.SetScalarOpacity(prop.GetScalarOpacity())
+    oracle.SetAutomaticMaximumDistance(0)
+    oracle.SetMaximumDistance(2.0 ** lmax * min(image.GetSpacing()))
+    oracle.Update()
+    return oracle.GetOutput()
+
+
 def rgba(image):
     """The RGBA array of a rendered image as an (H, W, 4) numpy array."""
     from vtkmodules.util.numpy_support import vtk_to_numpy

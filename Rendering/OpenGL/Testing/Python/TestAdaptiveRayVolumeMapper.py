@@ -43,7 +43,7 @@ import hovr
 from hovr import io as hio
 from hovr import methods as hm
 from hovrtesting import (Checker, cast_image, image_from_array, offscreen_window, rgba,
-                         spike_property)
+                         spike_property, with_oracle)
 
 c = Checker()
 renderer = hm.Renderer()
@@ -112,16 +112,6 @@ def rmse(a, b):
 
 def max_error(a, b):
     return float(numpy.abs(rgba(a) - rgba(b)).max())
-
-
-def with_oracle(image, prop, lmax=3):
-    oracle = hovr.vtkAdaptiveSamplingOracle()
-    oracle.SetInputData(image)
-    oracle.SetScalarOpacity(prop.GetScalarOpacity())
-    oracle.SetAutomaticMaximumDistance(0)
-    oracle.SetMaximumDistance(2.0 ** lmax * min(image.GetSpacing()))
-    oracle.Update()
-    return oracle.GetOutput()
 
 
 def with_constant_oracle(image, value):

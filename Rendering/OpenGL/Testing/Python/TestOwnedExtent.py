@@ -28,7 +28,7 @@ from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtk
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, FloatFrames, cut_pieces, image_from_array
+from hovrtesting import Checker, FloatFrames, cut_pieces, image_from_array, with_oracle
 
 c = Checker()
 frames = FloatFrames((96, 96))
@@ -78,16 +78,22 @@ def mapper(order):
     return m
 
 
+def oblique_camera(perspective):
+    """The whole volume seen obliquely to the cuts."""
+    camera = hio.default_camera(whole.GetBounds())
+    camera.SetParallelProjection(not perspective)
+    camera.Azimuth(30.0)
+    camera.Elevation(20.0)
+    return camera
+
+
 def pieces(axis, count):
     """(owned extent, the piece with its ghost points) for count pieces along axis."""
     return cut_pieces(whole, axis, count, GHOSTS)
 
 
 for perspective in (False, True):
-    camera = hio.default_camera(whole.GetBounds())
-    camera.SetParallelProjection(not perspective)
-    camera.Azimuth(30.0)
-    camera.Elevation(20.0)
+    camera = oblique_camera(perspective)
     eye = numpy.array(camera.GetPosition())
     for order in (1, 2):
         for shade in (False, True):
@@ -128,16 +134,6 @@ LEVELS = 3
 AHEAD = int(numpy.ceil(2 ** (LEVELS + 1) * step / min(whole.GetSpacing()))) + 2
 
 
-def with_oracle(image):
-    oracle = hovr.vtkAdaptiveSamplingOracle()
-    oracle.SetInputData(image)
-    oracle.SetScalarOpacity(prop.GetScalarOpacity())
-    oracle.SetAutomaticMaximumDistance(0)
-    oracle.SetMaximumDistance(2.0 ** LEVELS * min(image.GetSpacing()))
-    oracle.Update()
-    return oracle.GetOutput()
-
-
 def adaptive():
     m = hovr.vtkAdaptiveRayVolumeMapper()
     m.SetMaximumLevel(LEVELS)
@@ -151,13 +147,10 @@ def adaptive():
 
 prop.SetShade(False)
 for perspective in (False, True):
-    camera = hio.default_camera(whole.GetBounds())
-    camera.SetParallelProjection(not perspective)
-    camera.Azimuth(30.0)
-    camera.Elevation(20.0)
+    camera = oblique_camera(perspective)
     eye = numpy.array(camera.GetPosition())
     name = "adaptive ray, %s" % ("perspective" if perspective else "parallel")
-    reference, _ = frames.draw(adaptive(), with_oracle(whole), prop, camera)
+    reference, _ = frames.draw(adaptive(), with_oracle(whole, prop, LEVELS), prop, camera)
     c.check(reference[..., 3].max() > 0.3, "%s: the whole volume is drawn" % name)
     for axis, count in ((0, 2), (1, 3)):
         parts = cut_pieces(whole, axis, count, AHEAD)
@@ -175,7 +168,7 @@ for perspective in (False, True):
                 else:
                     # Without ghost points: each piece walked as a volume of its own.
                     piece = cut_pieces(whole, axis, count)[k][1]
-                image, _ = frames.draw(m, with_oracle(piece), prop, camera)
+                image, _ = frames.draw(m, with_oracle(piece, prop, LEVELS), prop, camera)
                 over = over + (1.0 - over[..., 3:4]) * image
             difference = numpy.abs(over - reference).max()
             label = "%s, %d pieces along %s" % (name, count, "xyz"[axis])
@@ -226,7 +219,7 @@ camera.SetFocalPoint(0.0, 0.0, 0.0)
 camera.SetViewUp(0.0, 0.0, 1.0)
 camera.SetParallelScale(1.6)
 direction = numpy.array(camera.GetDirectionOfProjection())
-reference, _ = blocks_frames.draw(adaptive(), with_oracle(ramp), prop, camera)
+reference, _ = blocks_frames.draw(adaptive(), with_oracle(ramp, prop, LEVELS), prop, camera)
 for count in (3, 4):
     translator = vtkExtentTranslator()
     translator.SetWholeExtent(ramp.GetExtent())
@@ -252,7 +245,7 @@ for count in (3, 4):
     for k in sorted(range(count), key=lambda k: numpy.dot(middle[k], direction)):
         m = adaptive()
         m.SetOwnedExtent(parts[k][0])
-        image, _ = blocks_frames.draw(m, with_oracle(parts[k][1]), prop, camera)
+        image, _ = blocks_frames.draw(m, with_oracle(parts[k][1], prop, LEVELS), prop, camera)
         over = over + (1.0 - over[..., 3:4]) * image
     difference = numpy.abs(over - reference).max()
     c.check(difference < 5e-4, "adaptive ray, %d blocks of the MPI scene: composited front to "
