@@ -257,8 +257,9 @@ bool vtkObjectOrderRayCaster::vtkInternals::UpdateRays(vtkImageData* input,
     }
     vtkMatrix4x4::Invert(self->VolumeMatrix, worldToData);
   }
-  vtkNew<vtkMatrix4x4> toIndex;
-  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), worldToData, toIndex);
+  vtkNew<vtkMatrix4x4> toStructured, toIndex;
+  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), worldToData, toStructured);
+  toIndex->DeepCopy(toStructured);
   const int* extent = input->GetExtent();
   for (int r = 0; r < 3; ++r)
   {
@@ -267,6 +268,16 @@ bool vtkObjectOrderRayCaster::vtkInternals::UpdateRays(vtkImageData* input,
   const int* size = self->GetImageSize();
   const int image[2] = { std::max(size[0], 1), std::max(size[1], 1) };
   this->Rays.Update(self->RayModel, toIndex, image, this->Volume.Cells, self->SampleDistance);
+  const int* owned = self->OwnedExtent;
+  if (owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5])
+  {
+    double wholeLo[3], wholeHi[3];
+    int ownedLo[3], ownedHi[3];
+    vtkVolumeImageAlgorithm::ComputeWholeIndexBox(input, self->WholeBounds, wholeLo, wholeHi);
+    vtkVolumeImageAlgorithm::ComputeOwnedIndexBox(input, owned, ownedLo, ownedHi);
+    const int first[3] = { extent[0], extent[2], extent[4] };
+    this->Rays.SetPiece(wholeLo, wholeHi, ownedLo, ownedHi, first, toStructured, self->RayModel);
+  }
   return true;
 }
 
@@ -435,6 +446,18 @@ void vtkObjectOrderRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "ScalarRange: " << this->ScalarRange[0] << ", " << this->ScalarRange[1] << "\n";
+  os << indent << "WholeBounds:";
+  for (double b : this->WholeBounds)
+  {
+    os << " " << b;
+  }
+  os << "\n";
+  os << indent << "OwnedExtent:";
+  for (int e : this->OwnedExtent)
+  {
+    os << " " << e;
+  }
+  os << "\n";
   os << indent << "InstructionSet: " << this->InstructionSet << "\n";
   os << indent << "LastInstructionSet: " << this->LastInstructionSet << "\n";
   os << indent << "ShadingMode: " << this->ShadingMode << "\n";

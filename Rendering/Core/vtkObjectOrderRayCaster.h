@@ -203,6 +203,31 @@ public:
   vtkGetVector2Macro(ScalarRange, double);
   ///@}
 
+  ///@{
+  /**
+   * Bounds (dataset coordinates) of the whole volume when the input is one piece of it (a
+   * rank's under MPI, as the ParaView plugin sets them); used with OwnedExtent. Empty bounds
+   * (a minimum above its maximum) are the input's own. Initial value is (1, 0, 1, 0, 1, 0).
+   */
+  vtkSetVector6Macro(WholeBounds, double);
+  vtkGetVector6Macro(WholeBounds, double);
+  ///@}
+
+  ///@{
+  /**
+   * The points of the input (its structured extent) that the caster draws as its own, when
+   * the input is one piece of the volume with ghost points around it: the piece without them.
+   * Each ray is then walked through the whole volume's box (WholeBounds), its samples taken
+   * wherever the input has points, and a sample's step composited only when the sample lies in
+   * the owned points (half-open: a sample on a face two pieces share goes to the piece behind
+   * it), so that the pieces composited front to back give the whole volume's image; the ghost
+   * points must reach two sample distances and two points past the owned ones. An empty extent
+   * (a minimum above its maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
+   */
+  vtkSetVector6Macro(OwnedExtent, int);
+  vtkGetVector6Macro(OwnedExtent, int);
+  ///@}
+
   enum InstructionSets
   {
     INSTRUCTIONS_AUTOMATIC = 0, ///< AVX2 with FMA where the processor has them, else SSE2
@@ -305,6 +330,8 @@ protected:
   int TileSize = 32;
   int LeafSize = 8;
   double ScalarRange[2] = { 1.0, 0.0 };
+  double WholeBounds[6] = { 1.0, 0.0, 1.0, 0.0, 1.0, 0.0 };
+  int OwnedExtent[6] = { 0, -1, 0, -1, 0, -1 };
   int InstructionSet = INSTRUCTIONS_AUTOMATIC;
   int LastInstructionSet = INSTRUCTIONS_AUTOMATIC;
   int ShadingMode = POST_SHADING;

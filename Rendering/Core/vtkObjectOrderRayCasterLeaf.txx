@@ -249,6 +249,9 @@ struct LeafView
 struct PixelState
 {
   double Chord[2] = { std::numeric_limits<double>::quiet_NaN(), 0.0 };
+  // The samples a piece draws (Rays::OwnedSamples), found with the chord.
+  double Owned[2] = { -std::numeric_limits<double>::infinity(),
+    std::numeric_limits<double>::infinity() };
   float RGBA[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
   double PreviousN = std::numeric_limits<double>::quiet_NaN();
   float PreviousScalar = 0.0f;

@@ -19,6 +19,14 @@ void vtkObjectOrderRayCasterRays::Update(vtkCameraRayModel* model,
   this->Width = size[0];
   this->Height = size[1];
   std::copy(cells, cells + 3, this->Cells);
+  this->Step = step;
+  this->SkippedSteps = 0.0;
+  this->Piece = false;
+  for (int a = 0; a < 3; ++a)
+  {
+    this->ChordLo[a] = 0.0;
+    this->ChordHi[a] = cells[a];
+  }
   auto toGrid = [&](const double w[3], double g[3], double h)
   {
     const double in[4] = { w[0], w[1], w[2], h };
@@ -66,7 +74,8 @@ void vtkObjectOrderRayCasterRays::Update(vtkCameraRayModel* model,
   }
   if (nearest > step && std::isfinite(nearest))
   {
-    const double skip = std::floor(nearest / step) * step;
+    this->SkippedSteps = std::floor(nearest / step);
+    const double skip = this->SkippedSteps * step;
     for (int a = 0; a < 3; ++a)
     {
       this->O[a] += skip * this->D[a];
@@ -94,14 +103,103 @@ void vtkObjectOrderRayCasterRays::Chord(int i, int j, double& te, double& tx) co
   for (int a = 0; a < 3; ++a)
   {
     const double o = this->O[a] + i * this->EX[a] + j * this->EY[a];
+    const double lo = this->ChordLo[a], hi = this->ChordHi[a];
     if (this->Still[a])
     {
-      tx = (o >= 0.0 && o <= this->Cells[a]) ? tx : -1.0;
+      tx = (o >= lo && o <= hi) ? tx : -1.0;
       continue;
     }
-    const double t1 = -o * this->InvD[a], t2 = (this->Cells[a] - o) * this->InvD[a];
+    const double t1 = (lo - o) * this->InvD[a], t2 = (hi - o) * this->InvD[a];
     te = std::max(te, std::min(t1, t2));
     tx = std::min(tx, std::max(t1, t2));
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderRayCasterRays::SetPiece(const double wholeLo[3],
+  const double wholeHi[3],
+  const int ownedLo[3],
+  const int ownedHi[3],
+  const int extent[3],
+  vtkMatrix4x4* toStructured,
+  vtkCameraRayModel* model)
+{
+  this->Piece = true;
+  double o00[3], o10[3], o01[3], d[3];
+  model->GetPixelRay(0, 0, o00, d);
+  model->GetPixelRay(1, 0, o10, d);
+  model->GetPixelRay(0, 1, o01, d);
+  auto toGrid = [&](const double w[3], double g[3])
+  {
+    const double in[4] = { w[0], w[1], w[2], 1.0 };
+    double out[4];
+    toStructured->MultiplyPoint(in, out);
+    std::copy(out, out + 3, g);
+  };
+  double g10[3], g01[3];
+  toGrid(o00, this->StructuredO);
+  toGrid(o10, g10);
+  toGrid(o01, g01);
+  vtkMath::Subtract(g10, this->StructuredO, this->StructuredEX);
+  vtkMath::Subtract(g01, this->StructuredO, this->StructuredEY);
+  for (int a = 0; a < 3; ++a)
+  {
+    this->ChordLo[a] = wholeLo[a];
+    this->ChordHi[a] = wholeHi[a];
+    this->OwnedLo[a] = static_cast<double>(ownedLo[a]) + extent[a];
+    this->OwnedHi[a] = static_cast<double>(ownedHi[a]) + extent[a];
+    // A face of the whole volume is nobody else's: the chord ends there.
+    this->Shared[2 * a] = ownedLo[a] > wholeLo[a];
+    this->Shared[2 * a + 1] = ownedHi[a] < wholeHi[a];
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkObjectOrderRayCasterRays::OwnedSamples(int i, int j, double phase, double range[2]) const
+{
+  const double infinity = std::numeric_limits<double>::infinity();
+  range[0] = -infinity;
+  range[1] = infinity;
+  if (!this->Piece)
+  {
+    return;
+  }
+  // The ray's part in the owned box, [ta, tb), t from the camera plane.
+  double ta = -infinity, tb = infinity;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double o = this->StructuredO[a] + i * this->StructuredEX[a] + j * this->StructuredEY[a];
+    const bool sharedLo = this->Shared[2 * a], sharedHi = this->Shared[2 * a + 1];
+    if (this->Still[a])
+    {
+      // A ray in a shared face belongs to the piece above it.
+      if ((sharedLo && o < this->OwnedLo[a]) || (sharedHi && o >= this->OwnedHi[a]))
+      {
+        range[0] = infinity;
+        return;
+      }
+      continue;
+    }
+    const double tLo = (this->OwnedLo[a] - o) * this->InvD[a];
+    const double tHi = (this->OwnedHi[a] - o) * this->InvD[a];
+    const bool up = this->D[a] > 0.0;
+    if (up ? sharedLo : sharedHi)
+    {
+      ta = std::max(ta, up ? tLo : tHi);
+    }
+    if (up ? sharedHi : sharedLo)
+    {
+      tb = std::min(tb, up ? tHi : tLo);
+    }
+  }
+  // Sample n of this piece lies at phase + (n + SkippedSteps) step from the camera plane.
+  if (ta > -infinity)
+  {
+    range[0] = std::ceil((ta - phase) / this->Step) - this->SkippedSteps;
+  }
+  if (tb < infinity)
+  {
+    range[1] = std::ceil((tb - phase) / this->Step) - this->SkippedSteps;
   }
 }
 

@@ -155,6 +155,7 @@ public:
     float Acc[4];
     double Chord[2];
     double Inner[2];
+    double Owned[2];
     double PreviousN;
     float PreviousScalar, PendingScalar, PendingShade[2];
     TablePlace PreviousPlace;
@@ -168,6 +169,8 @@ public:
     ray.Chord[1] = state.Chord[1];
     ray.Inner[0] = (state.Chord[0] - phase) * this->PerStep + 2.0;
     ray.Inner[1] = (state.Chord[1] - phase) * this->PerStep - 2.0;
+    ray.Owned[0] = state.Owned[0];
+    ray.Owned[1] = state.Owned[1];
     if (Preintegrated)
     {
       ray.PreviousScalar = state.PreviousScalar;
@@ -214,7 +217,10 @@ public:
       // entry (or after a gap of transparent cells) to the first sample and from the last
       // one to the exit.
       const bool joined = ray.PreviousN + 1.0 == n; // false when there is none (NaN)
-      if (HOVR_LIKELY(joined && n < ray.Inner[1]))
+      // On a piece, what a sample's step composites is drawn by the piece that owns the
+      // sample, and the trailing half step a sample owes by the piece that owns that one.
+      const bool owned = n >= ray.Owned[0] && n < ray.Owned[1];
+      if (HOVR_LIKELY(joined && n < ray.Inner[1] && owned))
       {
         // Most samples: the segment from the previous one, and this one owes its trailing
         // half step until the next joins it. (One test here rather than the general case's
@@ -226,14 +232,15 @@ public:
       else
       {
         const bool last = t + step >= tx;
-        if (!joined && ray.PendingScalar == ray.PendingScalar)
+        if (!joined && ray.PendingScalar == ray.PendingScalar && ray.PreviousN >= ray.Owned[0] &&
+          ray.PreviousN < ray.Owned[1])
         {
           // After a gap of transparent cells: the previous sample's trailing half step.
           this->ScalarPiece(ray.PendingScalar, 0.5 * step, piece);
           opaque =
             Composite<Shading>(ray.Acc, piece, ray.PendingShade[0], ray.PendingShade[1], threshold);
         }
-        if (!opaque)
+        if (!opaque && owned)
         {
           if (joined)
           {
@@ -245,7 +252,7 @@ public:
           }
           opaque = Composite<Shading>(ray.Acc, piece, shade, highlight, threshold);
         }
-        if (!opaque && last)
+        if (!opaque && owned && last)
         {
           this->ScalarPiece(s, tx - t, piece);
           opaque = Composite<Shading>(ray.Acc, piece, shade, highlight, threshold);
@@ -278,7 +285,10 @@ public:
         const double to = last ? tx : t + 0.5 * step;
         this->ScalarPiece(s, to - from, piece);
       }
-      opaque = Composite<Shading>(ray.Acc, piece, shade, highlight, threshold);
+      if (n >= ray.Owned[0] && n < ray.Owned[1])
+      {
+        opaque = Composite<Shading>(ray.Acc, piece, shade, highlight, threshold);
+      }
     }
     return opaque;
   }

@@ -42,7 +42,8 @@ public:
       {
         PixelState& state = this->Pixels[lx + static_cast<size_t>(this->TileWidth) * ly];
         if (this->I.Classification.Preintegrated && state.PendingScalar == state.PendingScalar &&
-          !this->Occlusion.IsPixelOpaque(lx, ly))
+          !this->Occlusion.IsPixelOpaque(lx, ly) && state.PreviousN >= state.Owned[0] &&
+          state.PreviousN < state.Owned[1])
         {
           alignas(16) float piece[4];
           this->ScalarPiece(state.PendingScalar, 0.5 * this->I.Step, piece);
@@ -243,9 +244,11 @@ public:
         // (At the pixel's first segment rather than for every pixel of the tile before its
         // walk: many pixels of a tile meet no visible leaf and never need their chord.)
         I.Rays.Chord(px, py, state.Chord[0], state.Chord[1]);
+        I.Rays.OwnedSamples(px, py, phase, state.Owned);
       }
 #ifdef HOVR_WALKER_AVX2
-      if (Shading == 0)
+      // (A piece's rays take the one-ray loop, which skips the samples it does not own.)
+      if (Shading == 0 && !I.Rays.Piece)
       {
         lanes.Add(state, lx, ly, phase, n, tin, tout, entry, samples);
         return;

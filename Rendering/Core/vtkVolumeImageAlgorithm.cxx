@@ -401,6 +401,81 @@ bool vtkVolumeImageAlgorithm::ReadNormalArray(vtkImageData* input,
 }
 
 //------------------------------------------------------------------------------
+void vtkVolumeImageAlgorithm::ComputeWholeIndexBox(vtkImageData* input,
+  const double wholeBounds[6],
+  double lo[3],
+  double hi[3])
+{
+  int dims[3] = { 1, 1, 1 };
+  if (input)
+  {
+    input->GetDimensions(dims);
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = 0.0;
+    hi[a] = dims[a] - 1.0;
+  }
+  if (!input)
+  {
+    return;
+  }
+  double whole[6];
+  input->GetBounds(whole);
+  bool valid = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    valid = valid && wholeBounds[2 * a] <= wholeBounds[2 * a + 1] &&
+      std::isfinite(wholeBounds[2 * a]) && std::isfinite(wholeBounds[2 * a + 1]);
+  }
+  for (int a = 0; a < 3 && valid; ++a)
+  {
+    // Widened, so that the box holds the input's points.
+    whole[2 * a] = std::min(whole[2 * a], wholeBounds[2 * a]);
+    whole[2 * a + 1] = std::max(whole[2 * a + 1], wholeBounds[2 * a + 1]);
+  }
+  if (!(whole[0] <= whole[1]))
+  {
+    return;
+  }
+  const int* extent = input->GetExtent();
+  for (int c = 0; c < 8; ++c)
+  {
+    const double corner[3] = { whole[c & 1], whole[2 + ((c >> 1) & 1)], whole[4 + ((c >> 2) & 1)] };
+    double index[3];
+    input->TransformPhysicalPointToContinuousIndex(corner, index);
+    for (int a = 0; a < 3; ++a)
+    {
+      // Whole points: the pieces' bounds lie on the grid.
+      const double i = std::round(index[a]) - extent[2 * a];
+      lo[a] = c == 0 ? i : std::min(lo[a], i);
+      hi[a] = c == 0 ? i : std::max(hi[a], i);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkVolumeImageAlgorithm::ComputeOwnedIndexBox(vtkImageData* input,
+  const int ownedExtent[6],
+  int lo[3],
+  int hi[3])
+{
+  int extent[6] = { 0, 0, 0, 0, 0, 0 };
+  if (input)
+  {
+    input->GetExtent(extent);
+  }
+  const int* owned = ownedExtent;
+  const bool some = owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5];
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = some ? std::max(owned[2 * a], extent[2 * a]) - extent[2 * a] : 0;
+    hi[a] =
+      (some ? std::min(owned[2 * a + 1], extent[2 * a + 1]) : extent[2 * a + 1]) - extent[2 * a];
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkVolumeImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

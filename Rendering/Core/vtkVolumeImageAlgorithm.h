@@ -82,6 +82,23 @@ public:
    */
   static void ReportGeometry(vtkObject* reporter, vtkImageData* input, vtkMTimeType& reported);
 
+  /**
+   * For a piece of a volume (a rank's under MPI): the whole volume's box, wholeBounds' corners
+   * (dataset coordinates, which hold the input's bounds; empty or non-finite bounds: the
+   * input's own), and the points the input owns, ownedExtent (structured extent) within the
+   * input's (an empty extent, a minimum above its maximum: all of them), in input's grid index
+   * counted from its extent's first point. Pieces share their origin, spacing and direction, so
+   * every piece finds the same box, shifted by its extent's first point.
+   */
+  static void ComputeWholeIndexBox(vtkImageData* input,
+    const double wholeBounds[6],
+    double lo[3],
+    double hi[3]);
+  static void ComputeOwnedIndexBox(vtkImageData* input,
+    const int ownedExtent[6],
+    int lo[3],
+    int hi[3]);
+
 protected:
   vtkVolumeImageAlgorithm();
   ~vtkVolumeImageAlgorithm() override;

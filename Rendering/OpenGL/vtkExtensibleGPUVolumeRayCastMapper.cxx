@@ -489,62 +489,15 @@ void vtkExtensibleGPUVolumeRayCastMapper::CoverWholeBounds(double bounds[6]) con
 //------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::GetWholeIndexBox(double lo[3], double hi[3])
 {
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  int dims[3] = { 1, 1, 1 };
-  if (input)
-  {
-    input->GetDimensions(dims);
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    lo[a] = 0.0;
-    hi[a] = dims[a] - 1.0;
-  }
-  if (!input)
-  {
-    return;
-  }
-  // The input's bounds widened to WholeBounds (which hold them when they are a piece's).
-  double whole[6];
-  input->GetBounds(whole);
-  this->CoverWholeBounds(whole);
-  if (!(whole[0] <= whole[1]))
-  {
-    return;
-  }
-  const int* extent = input->GetExtent();
-  for (int c = 0; c < 8; ++c)
-  {
-    const double corner[3] = { whole[c & 1], whole[2 + ((c >> 1) & 1)], whole[4 + ((c >> 2) & 1)] };
-    double index[3];
-    input->TransformPhysicalPointToContinuousIndex(corner, index);
-    for (int a = 0; a < 3; ++a)
-    {
-      // Whole points: the pieces' bounds lie on the grid.
-      const double i = std::round(index[a]) - extent[2 * a];
-      lo[a] = c == 0 ? i : std::min(lo[a], i);
-      hi[a] = c == 0 ? i : std::max(hi[a], i);
-    }
-  }
+  vtkVolumeImageAlgorithm::ComputeWholeIndexBox(
+    vtkImageData::SafeDownCast(this->GetInput()), this->WholeBounds, lo, hi);
 }
 
 //------------------------------------------------------------------------------
 void vtkExtensibleGPUVolumeRayCastMapper::GetOwnedIndexBox(int lo[3], int hi[3])
 {
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  int extent[6] = { 0, 0, 0, 0, 0, 0 };
-  if (input)
-  {
-    input->GetExtent(extent);
-  }
-  const int* owned = this->OwnedExtent;
-  const bool some = owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5];
-  for (int a = 0; a < 3; ++a)
-  {
-    lo[a] = some ? std::max(owned[2 * a], extent[2 * a]) - extent[2 * a] : 0;
-    hi[a] =
-      (some ? std::min(owned[2 * a + 1], extent[2 * a + 1]) : extent[2 * a + 1]) - extent[2 * a];
-  }
+  vtkVolumeImageAlgorithm::ComputeOwnedIndexBox(
+    vtkImageData::SafeDownCast(this->GetInput()), this->OwnedExtent, lo, hi);
 }
 
 //------------------------------------------------------------------------------

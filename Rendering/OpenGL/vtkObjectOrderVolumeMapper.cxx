@@ -30,6 +30,7 @@ vtkObjectOrderVolumeMapper::vtkObjectOrderVolumeMapper()
   : Caster(vtkObjectOrderRayCaster::New())
   , Texture(vtkTextureObject::New())
   , Fallback(vtkFixedPointVolumeRayCastMapper::New())
+  , FallbackPiece(vtkImageData::New())
 {
   vtkErrorForwarder::Forward(this->Caster, this);
   this->Fallback->SetAutoAdjustSampleDistances(0);
@@ -42,6 +43,7 @@ vtkObjectOrderVolumeMapper::~vtkObjectOrderVolumeMapper()
   this->Caster->Delete();
   this->Texture->Delete();
   this->Fallback->Delete();
+  this->FallbackPiece->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -85,6 +87,15 @@ void vtkObjectOrderVolumeMapper::RenderFallback(vtkRenderer* ren,
     this->LastWarning = reason;
   }
   this->LastFrameFellBack = true;
+  const int* owned = this->Caster->GetOwnedExtent();
+  if (owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5])
+  {
+    // A piece with ghost points: VTK's mapper draws the owned points alone, as the pieces of
+    // the other ranks do theirs (a copy per frame, small beside that mapper's frame).
+    this->FallbackPiece->ShallowCopy(input);
+    this->FallbackPiece->Crop(owned);
+    input = this->FallbackPiece;
+  }
   this->Fallback->SetInputData(input);
   this->Fallback->SetBlendMode(this->BlendMode);
   this->Fallback->SetCropping(this->Cropping);

@@ -99,6 +99,8 @@ protected:
   vtkObjectOrderRayCaster* Caster;
   vtkTextureObject* Texture;
   vtkFixedPointVolumeRayCastMapper* Fallback;
+  // The owned points of a piece with ghost points (the caster's OwnedExtent), for Fallback.
+  vtkImageData* FallbackPiece;
 
 private:
   vtkObjectOrderVolumeMapper(const vtkObjectOrderVolumeMapper&) = delete;

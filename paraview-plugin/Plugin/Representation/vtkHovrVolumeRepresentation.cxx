@@ -58,16 +58,18 @@ bool IsPreIntegration(int integration)
 }
 
 // Which ghost points a method reads on several ranks: none (its piece is cropped), those of
-// pre-integration's slabs, or those of the adaptive ray's walk and oracle.
+// the segments and slabs of pre-integration and object order, or those of the adaptive ray's
+// walk and oracle.
 enum GhostKinds
 {
   NO_GHOSTS,
-  PRE_INTEGRATION_GHOSTS,
+  SEGMENT_GHOSTS,
   ADAPTIVE_RAY_GHOSTS
 };
 int GhostKind(int integration)
 {
-  return IsPreIntegration(integration)                         ? PRE_INTEGRATION_GHOSTS
+  return IsPreIntegration(integration) || integration == vtkHovrVolumeRepresentation::OBJECT_ORDER
+    ? SEGMENT_GHOSTS
     : integration == vtkHovrVolumeRepresentation::ADAPTIVE_RAY ? ADAPTIVE_RAY_GHOSTS
                                                                : NO_GHOSTS;
 }
@@ -181,16 +183,15 @@ void vtkHovrVolumeRepresentation::SetMaximumLevel(int level)
 //------------------------------------------------------------------------------
 int vtkHovrVolumeRepresentation::GhostLevels(double spacing)
 {
-  // Pre-integration reads a slab (two sample distances) past a piece; the adaptive ray walks to
-  // the next slice of 2^l_max and its oracle sees as far again.
+  // Pre-integration and object order read a slab or a segment (two sample distances) past a
+  // piece; the adaptive ray walks to the next slice of 2^l_max and its oracle sees as far again.
   const int kind = GhostKind(this->Integration);
   if (kind == NO_GHOSTS)
   {
     return 0;
   }
-  const double reach = kind == PRE_INTEGRATION_GHOSTS
-    ? 2.0
-    : std::ldexp(2.0, std::min(std::max(this->MaximumLevel, 0), 16));
+  const double reach =
+    kind == SEGMENT_GHOSTS ? 2.0 : std::ldexp(2.0, std::min(std::max(this->MaximumLevel, 0), 16));
   const double distance = this->SampleDistance > 0.0 ? this->SampleDistance : 0.5 * spacing;
   if (!(spacing > 0.0) || !std::isfinite(distance / spacing))
   {
@@ -440,9 +441,9 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   {
     data = this->Oracle->GetInputConnection(0, 0);
   }
-  // The piece's ghost points (on several ranks) are read by pre-integration and the adaptive
-  // ray when they reach as far as those need; otherwise, and for the other methods, they are
-  // cropped off (after the oracle, which is computed with them).
+  // The piece's ghost points (on several ranks) are read by pre-integration, object order and
+  // the adaptive ray when they reach as far as those need; otherwise, and for the other methods,
+  // they are cropped off (after the oracle, which is computed with them).
   const bool ghosts = this->OwnedExtent[0] <= this->OwnedExtent[1];
   bool readsGhosts = false;
   if (ghosts && GhostKind(this->Integration) != NO_GHOSTS)
@@ -475,6 +476,11 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     const int none[6] = { 0, -1, 0, -1, 0, -1 };
     extensible->SetOwnedExtent(readsGhosts ? this->OwnedExtent : none);
   }
+  else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(chosen))
+  {
+    const int none[6] = { 0, -1, 0, -1, 0, -1 };
+    objectOrder->GetCaster()->SetOwnedExtent(readsGhosts ? this->OwnedExtent : none);
+  }
   this->VolumeMapper = chosen;
   // On several ranks a projection's pixels are composited by depth (see ProcessViewRequest),
   // unless another representation makes the view composite front to back ("over"), which is
@@ -503,6 +509,7 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
   else if (auto* objectOrder = vtkObjectOrderVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
     objectOrder->GetCaster()->SetScalarRange(this->WholeScalarRange);
+    objectOrder->GetCaster()->SetWholeBounds(this->WholeBounds);
   }
   this->VolumeMapper->SetCropping(this->Cropping != 0);
   this->VolumeMapper->SetBlendMode(this->BlendMode);

@@ -151,6 +151,35 @@ c.check(len(messages.errors) == errors + 1 and "sample distance" in messages.err
         and events == ["start", "end"], "a negative step: the caster's error, start and end "
         "events paired (%s)" % events)
 mapper.SetSampleDistance(step)
+
+
+def window_rgba():
+    window.Render()
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGBA()
+    grab.Update()
+    return vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).astype(int)
+
+
+# A piece with ghost points (the caster's OwnedExtent) in perspective: VTK's mapper draws the
+# owned points alone, the image of the piece without its ghost points.
+from hovrtesting import cut_pieces  # noqa: E402
+(owned, ghosted), = cut_pieces(scene.image, 0, 2, 3)[:1]
+(_, plain), = cut_pieces(scene.image, 0, 2)[:1]
+view.GetActiveCamera().SetParallelProjection(False)
+mapper.SetInputData(plain)
+expected = window_rgba()
+mapper.SetInputData(ghosted)
+mapper.GetCaster().SetOwnedExtent(owned)
+drawn = window_rgba()
+mapper.GetCaster().SetOwnedExtent(0, -1, 0, -1, 0, -1)
+whole_piece = window_rgba()
+c.check(mapper.GetLastFrameFellBack() and numpy.array_equal(drawn, expected)
+        and not numpy.array_equal(whole_piece, expected), "perspective, a piece with ghost "
+        "points: VTK's mapper draws its owned points alone (%d pixels differ with the ghost "
+        "points)" % numpy.count_nonzero(numpy.any(whole_piece != expected, axis=1)))
 window.Finalize()
 renderer.close()
 c.finish()
