@@ -56,6 +56,15 @@ void SetUniform3d(vtkShaderProgram* program, const char* name, const double v[3]
     glUniform3d(location, v[0], v[1], v[2]);
   }
 }
+
+void SetUniform3i(vtkShaderProgram* program, const char* name, const int v[3])
+{
+  const int location = program->FindUniform(name);
+  if (location >= 0)
+  {
+    glUniform3i(location, v[0], v[1], v[2]);
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -268,6 +277,17 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
   SetUniform3d(program, "rayAxisY", frame.RayAxisY);
   SetUniform3d(program, "sliceStep", frame.SliceStep);
   SetUniform3d(program, "boxMax", frame.BoxMax);
+  SetUniform3d(program, "wholeMin", frame.WholeMin);
+  SetUniform3d(program, "wholeMax", frame.WholeMax);
+  program->SetUniformi("piece", frame.Piece ? 1 : 0);
+  SetUniform3d(program, "structuredOrigin", frame.StructuredOrigin);
+  SetUniform3d(program, "structuredAxisX", frame.StructuredAxisX);
+  SetUniform3d(program, "structuredAxisY", frame.StructuredAxisY);
+  SetUniform3d(program, "structuredStep", frame.StructuredStep);
+  SetUniform3d(program, "ownedLo", frame.OwnedLo);
+  SetUniform3d(program, "ownedHi", frame.OwnedHi);
+  SetUniform3i(program, "sharedLo", frame.SharedLo);
+  SetUniform3i(program, "sharedHi", frame.SharedHi);
   SetUniform3d(program, "axisLength", frame.AxisLength);
   const int spacingLocation = program->FindUniform("sliceSpacing");
   if (spacingLocation >= 0)
@@ -287,7 +307,7 @@ vtkIdType vtkAdaptiveSamplingPyramid::Draw(const Frame& frame)
 
   // PROJECTSLICE for every slice (Fig. 7), levels l_slice down to 0.
   vtkIdType passes = 0;
-  for (vtkIdType slice = 0; slice <= frame.LastSlice; ++slice)
+  for (vtkIdType slice = frame.FirstSlice; slice <= frame.LastSlice; ++slice)
   {
     const int lslice = SliceLevel(slice, lmax);
     program->SetUniformi("slice", static_cast<int>(slice));

@@ -37,11 +37,22 @@ public:
   struct Frame
   {
     int MaximumLevel = 3;
+    vtkIdType FirstSlice = 0;  // the first slice drawn, a multiple of 2^MaximumLevel
     vtkIdType LastSlice = 0;   // i_max
     int Width = 1, Height = 1; // the viewport, in level-0 pixels
     double RayOrigin[3] = { 0, 0, 0 }, RayAxisX[3] = { 0, 0, 0 }, RayAxisY[3] = { 0, 0, 0 };
     double SliceStep[3] = { 0, 0, 0 }, BoxMax[3] = { 1, 1, 1 }, AxisLength[3] = { 1, 1, 1 };
     double SliceSpacing = 1.0;
+    // The whole volume's box in the same index (the input's box [0, BoxMax] unless it is a
+    // piece of it).
+    double WholeMin[3] = { 0, 0, 0 }, WholeMax[3] = { 1, 1, 1 };
+    // A piece with ghost points: the rays in structured index, the owned points' box there,
+    // and which of its faces (low, high per axis) it shares with other pieces.
+    bool Piece = false;
+    double StructuredOrigin[3] = { 0, 0, 0 }, StructuredAxisX[3] = { 0, 0, 0 };
+    double StructuredAxisY[3] = { 0, 0, 0 }, StructuredStep[3] = { 0, 0, 0 };
+    double OwnedLo[3] = { 0, 0, 0 }, OwnedHi[3] = { 0, 0, 0 };
+    int SharedLo[3] = { 0, 0, 0 }, SharedHi[3] = { 0, 0, 0 };
     int TableSize = 256;
     bool MinimumOracle = false;
     bool EarlyTermination = true;

@@ -408,59 +408,75 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   vtkIdType iMax = vtkAdaptiveSamplingRayCaster::ComputeSliceGrid(
     toWorld, dims, eye, forward, delta, lmax, nearest, axisLength);
   // Slice 0 through the whole volume's nearest corner when the input is a piece of it
-  // (WholeBounds), so that every piece samples the whole volume's slices.
+  // (WholeBounds), so that every piece samples the whole volume's slices; found from the whole
+  // volume's corners alone, so that every piece finds the same.
   double own[6], whole[6];
   input->GetBounds(own);
   std::copy(own, own + 6, whole);
   this->CoverWholeBounds(whole);
-  double wholeNearest = nearest;
-  for (int c = 0; c < 8 && !std::equal(own, own + 6, whole); ++c)
+  const PieceFrame piece = this->FindPieceFrame(input, delta, lmax, axisLength);
+  vtkIdType firstSlice = 0;
+  if (!std::equal(own, own + 6, whole) || piece.Joined)
   {
-    const double corner[4] = {
-      whole[(c & 1) ? 1 : 0], whole[(c & 2) ? 3 : 2], whole[(c & 4) ? 5 : 4], 1.0
-    };
-    double w[4];
-    vol->GetMatrix()->MultiplyPoint(corner, w);
-    wholeNearest = std::min(wholeNearest, vtkMath::Dot(w, forward) - vtkMath::Dot(eye, forward));
-  }
-  if (wholeNearest < nearest)
-  {
+    double wholeNearest = VTK_DOUBLE_MAX;
+    for (int c = 0; c < 8; ++c)
+    {
+      const double corner[4] = {
+        whole[(c & 1) ? 1 : 0], whole[(c & 2) ? 3 : 2], whole[(c & 4) ? 5 : 4], 1.0
+      };
+      double w[4];
+      vol->GetMatrix()->MultiplyPoint(corner, w);
+      wholeNearest = std::min(wholeNearest, vtkMath::Dot(w, forward) - vtkMath::Dot(eye, forward));
+    }
     // The slices before the piece are counted (so that its first slice has its index in the
-    // whole volume), and the last slice is again a multiple of 2^l_max.
-    const vtkIdType front = static_cast<vtkIdType>(std::ceil((nearest - wholeNearest) / delta));
+    // whole volume), and the last slice is again a multiple of 2^l_max; a piece that joins its
+    // walks to its neighbours' starts on the slice of 2^l_max at or before its points.
+    const double before = std::max(nearest - wholeNearest, 0.0) / delta;
+    const vtkIdType front = static_cast<vtkIdType>(std::ceil(before));
     const vtkIdType block = vtkIdType(1) << lmax;
     nearest = wholeNearest;
     iMax = (iMax + front + block - 1) / block * block;
+    if (piece.Joined)
+    {
+      firstSlice = static_cast<vtkIdType>(std::floor(before)) / block * block;
+    }
   }
-  // Image coordinates (x, y) -> index-space point on slice 0: affine (parallel projection).
+  // Image coordinates (x, y) -> index-space point on slice 0: affine (parallel projection);
+  // for a piece, also in structured index (no shift by its extent: the same on every piece).
   double base[3], axisX[3], axisY[3], step[3];
+  double structuredBase[3], structuredX[3], structuredY[3], structuredStep[3];
+  vtkNew<vtkMatrix4x4> toStructured;
+  vtkMatrix4x4::Multiply4x4(input->GetPhysicalToIndexMatrix(), worldToData, toStructured);
+  auto frameOf = [&](vtkMatrix4x4* toIndex, double o[3], double x[3], double y[3], double z[3])
   {
-    auto slice0 = [&](double x, double y, double p[3])
+    auto slice0 = [&](double u, double v, double p[3])
     {
       double origin[3], direction[3];
-      internal.Rays->GetRay(x, y, origin, direction);
+      internal.Rays->GetRay(u, v, origin, direction);
       const double world[4] = { origin[0] + nearest * forward[0],
         origin[1] + nearest * forward[1],
         origin[2] + nearest * forward[2],
         1.0 };
       double q[4];
-      toGrid->MultiplyPoint(world, q);
+      toIndex->MultiplyPoint(world, q);
       std::copy(q, q + 3, p);
     };
     double px[3], py[3];
-    slice0(0.0, 0.0, base);
+    slice0(0.0, 0.0, o);
     slice0(1.0, 0.0, px);
     slice0(0.0, 1.0, py);
     const double forward4[4] = { forward[0], forward[1], forward[2], 0.0 };
     double s[4];
-    toGrid->MultiplyPoint(forward4, s);
+    toIndex->MultiplyPoint(forward4, s);
     for (int a = 0; a < 3; ++a)
     {
-      axisX[a] = px[a] - base[a];
-      axisY[a] = py[a] - base[a];
-      step[a] = s[a] * delta;
+      x[a] = px[a] - o[a];
+      y[a] = py[a] - o[a];
+      z[a] = s[a] * delta;
     }
-  }
+  };
+  frameOf(toGrid, base, axisX, axisY, step);
+  frameOf(toStructured, structuredBase, structuredX, structuredY, structuredStep);
 
   // The pyramid over the padded viewport.
   const int paddedWidth = (width + block - 1) / block * block;
@@ -486,10 +502,30 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
   std::copy(axisY, axisY + 3, frame.RayAxisY);
   std::copy(step, step + 3, frame.SliceStep);
   std::copy(axisLength, axisLength + 3, frame.AxisLength);
+  frame.FirstSlice = firstSlice;
   for (int a = 0; a < 3; ++a)
   {
     frame.BoxMax[a] = dims[a] - 1.0;
+    frame.WholeMin[a] = piece.WholeMin[a];
+    frame.WholeMax[a] = piece.WholeMax[a];
   }
+  frame.Piece = piece.Joined;
+  if (piece.Joined)
+  {
+    const int* first = input->GetExtent();
+    for (int a = 0; a < 3; ++a)
+    {
+      frame.StructuredOrigin[a] = structuredBase[a];
+      frame.StructuredAxisX[a] = structuredX[a];
+      frame.StructuredAxisY[a] = structuredY[a];
+      frame.StructuredStep[a] = structuredStep[a];
+      frame.OwnedLo[a] = static_cast<double>(piece.OwnedLo[a]) + first[2 * a];
+      frame.OwnedHi[a] = static_cast<double>(piece.OwnedHi[a]) + first[2 * a];
+      frame.SharedLo[a] = piece.OwnedLo[a] > piece.WholeMin[a] ? 1 : 0;
+      frame.SharedHi[a] = piece.OwnedHi[a] < piece.WholeMax[a] ? 1 : 0;
+    }
+  }
+  this->LastFrameJoinedPieces = piece.Joined;
   frame.SliceSpacing = delta;
   frame.TableSize = n;
   frame.MinimumOracle = this->OracleMode == ORACLE_MINIMUM;
@@ -582,6 +618,53 @@ void vtkAdaptiveSamplingVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol
 }
 
 //------------------------------------------------------------------------------
+vtkAdaptiveSamplingVolumeMapper::PieceFrame vtkAdaptiveSamplingVolumeMapper::FindPieceFrame(
+  vtkImageData* input,
+  double delta,
+  int lmax,
+  const double axisLength[3])
+{
+  PieceFrame piece;
+  int dims[3];
+  input->GetDimensions(dims);
+  for (int a = 0; a < 3; ++a)
+  {
+    piece.WholeMax[a] = dims[a] - 1.0;
+  }
+  const int* owned = this->OwnedExtent;
+  if (!(owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5]))
+  {
+    return piece; // the input is the volume
+  }
+  double wholeLo[3], wholeHi[3];
+  this->GetWholeIndexBox(wholeLo, wholeHi);
+  this->GetOwnedIndexBox(piece.OwnedLo, piece.OwnedHi);
+  // A walk reads 2^l_max slices past the owned points along the ray and 1.5 (2^l_max - 1)
+  // pixels (one slice spacing each) across it through synthesis; the oracle there sees
+  // 2^l_max slices farther: 2^(l_max + 2) slice spacings and two points bound it.
+  piece.Joined = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double reach = std::ldexp(delta, lmax + 2) / axisLength[a];
+    const double need = std::isfinite(reach) ? std::ceil(reach) + 2.0 : VTK_DOUBLE_MAX;
+    // A face with a neighbour: enough ghost points, or all of them up to the whole's face.
+    const bool low =
+      piece.OwnedLo[a] <= wholeLo[a] || 0.0 <= wholeLo[a] || piece.OwnedLo[a] >= need;
+    const bool high = piece.OwnedHi[a] >= wholeHi[a] || dims[a] - 1.0 >= wholeHi[a] ||
+      dims[a] - 1.0 - piece.OwnedHi[a] >= need;
+    piece.Joined = piece.Joined && low && high;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    // Joined: the rays end on the whole volume's faces; otherwise on the owned points' own, as
+    // for a volume of its own.
+    piece.WholeMin[a] = piece.Joined ? wholeLo[a] : piece.OwnedLo[a];
+    piece.WholeMax[a] = piece.Joined ? wholeHi[a] : piece.OwnedHi[a];
+  }
+  return piece;
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkAdaptiveSamplingVolumeMapper::GetOracleTextureMemorySize()
 {
   return this->Internal->OracleBricks->GetMemorySize();
@@ -609,5 +692,6 @@ void vtkAdaptiveSamplingVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfSlices: " << this->NumberOfSlices << "\n";
   os << indent << "SliceSpacing: " << this->SliceSpacing << "\n";
   os << indent << "LastFramePasses: " << this->LastFramePasses << "\n";
+  os << indent << "LastFrameJoinedPieces: " << this->LastFrameJoinedPieces << "\n";
   os << indent << "TableBuildCount: " << this->TableBuildCount << "\n";
 }

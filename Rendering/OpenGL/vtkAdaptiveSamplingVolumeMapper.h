@@ -33,6 +33,12 @@
  *     evaluated in double (GL_ARB_gpu_shader_fp64) so that the decisions, and hence the
  *     counts, are those of the CPU core.
  *
+ * A piece of a volume with ghost points (OwnedExtent with WholeBounds, as the ParaView plugin
+ * sets them on several ranks) is drawn on the whole volume's slices, and each pixel composites
+ * only between the slices of 2^MaximumLevel that start and end its walk in the owned points:
+ * every level samples there and the pyramid holds nothing older, so the pieces' images
+ * composited front to back give the whole volume's (GetLastFrameJoinedPieces).
+ *
  * Early ray termination (the paper's future work, line 250): a level-0 pixel whose opacity
  * reached 1 - 1/255 stops sampling and accumulating, and a coarser pixel skips its sample once
  * every level-0 pixel its synthesis footprint reaches has stopped (a "terminated" flag per
@@ -174,6 +180,13 @@ public:
   ///@}
 
   /**
+   * Whether the last frame drew its input as a piece whose walks join its neighbours' (see
+   * OwnedExtent): false without OwnedExtent, and when the ghost points are fewer than the
+   * frame's slice spacing needs (the owned points are then drawn as a volume of their own).
+   */
+  vtkGetMacro(LastFrameJoinedPieces, bool);
+
+  /**
    * Bytes of GPU memory held by the oracle's bricks (the volume's are the base class's
    * GetBrickTextureMemorySize).
    */
@@ -210,6 +223,21 @@ protected:
   void SetExtensionShaderParameters(vtkShaderProgram*, vtkVolume*) override {}
   void ReleaseExtensionResources(vtkWindow* window) override;
 
+  // The box a frame's rays end on (grid index of the input) and whether the input, a piece
+  // with ghost points, joins its walks to its neighbours' (its owned points in grid index);
+  // from OwnedExtent, WholeBounds, the slice spacing delta (world), l_max and the world
+  // length of one index unit along each axis.
+  struct PieceFrame
+  {
+    bool Joined = false;
+    double WholeMin[3] = { 0, 0, 0 }, WholeMax[3] = { 0, 0, 0 };
+    int OwnedLo[3] = { 0, 0, 0 }, OwnedHi[3] = { 0, 0, 0 };
+  };
+  PieceFrame FindPieceFrame(vtkImageData* input,
+    double delta,
+    int lmax,
+    const double axisLength[3]);
+
   int MaximumLevel = 3;
   int OracleMode = ORACLE_ARRAY;
   char* OracleArrayName = nullptr;
@@ -225,6 +253,7 @@ protected:
   vtkIdType NumberOfSlices = 0;
   double SliceSpacing = 0.0;
   vtkIdType LastFramePasses = 0;
+  bool LastFrameJoinedPieces = false;
   int TableBuildCount = 0;
   bool PerspectiveReported = false;
 

@@ -171,8 +171,12 @@ public:
    * sample distances and two points past the owned ones. The adaptive ray walks from and to
    * the slices every walk samples (multiples of 2^MaximumLevel), so that its pieces' walks join
    * into the whole volume's; its ghost points, and those its oracle was computed with, must
-   * reach 2^(MaximumLevel + 1) sample distances and two points. An empty extent (a minimum
-   * above its maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
+   * reach 2^(MaximumLevel + 1) sample distances and two points. The slice pyramid
+   * (vtkAdaptiveSamplingVolumeMapper) joins its walks likewise, from the first slice of
+   * 2^MaximumLevel where a pixel's ray enters the owned points from another piece's; its ghost
+   * points, and its oracle's, must reach 2^(MaximumLevel + 2) slice spacings (pixels) and two
+   * points, else the owned points are drawn as a volume of their own. An empty extent (a
+   * minimum above its maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
    */
   vtkSetVector6Macro(OwnedExtent, int);
   vtkGetVector6Macro(OwnedExtent, int);

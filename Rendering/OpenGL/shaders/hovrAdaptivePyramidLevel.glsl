@@ -38,6 +38,23 @@ uniform dvec3 rayAxisX;  // index-space offset per unit of image x in [-1, 1]
 uniform dvec3 rayAxisY;
 uniform dvec3 sliceStep; // index-space offset from one slice to the next
 uniform dvec3 boxMax;    // grid dimensions - 1
+// The whole volume's box (its index space: [0, boxMax] unless the input is a piece of it):
+// outside it samples are NaN, and its faces end the rays.
+uniform dvec3 wholeMin;
+uniform dvec3 wholeMax;
+// A piece with ghost points (1): level 0 composites only the segments between the slices of
+// 2^l_max that join its walks to the neighbours' (see hovrOwnedSlices), found from the rays in
+// structured index (the same operations on every piece): image coordinates (0, 0) on slice 0,
+// per unit of x and y, per slice; the owned points' box and which of its faces are shared.
+uniform int piece;
+uniform dvec3 structuredOrigin;
+uniform dvec3 structuredAxisX;
+uniform dvec3 structuredAxisY;
+uniform dvec3 structuredStep;
+uniform dvec3 ownedLo;
+uniform dvec3 ownedHi;
+uniform ivec3 sharedLo;
+uniform ivec3 sharedHi;
 uniform dvec3 axisLength; // world length of one index unit along each axis
 uniform double sliceSpacing; // Delta, world units
 
@@ -113,11 +130,11 @@ double hovrSampleOracle(dvec3 p)
   return c0 + w.z * (c1 - c0);
 }
 
-// Whether p (0-based continuous grid index) lies outside the closed box [0, boxMax]; outside
-// receives the squared world distance to the box.
+// Whether p (0-based continuous grid index) lies outside the whole volume's closed box;
+// outside receives the squared world distance to the box.
 bool hovrOutside(dvec3 p, out double outside)
 {
-  dvec3 excess = max(-p, p - boxMax);
+  dvec3 excess = max(wholeMin - p, p - wholeMax);
   outside = 0.0lf;
   for (int a = 0; a < 3; ++a)
   {
@@ -139,16 +156,57 @@ void hovrClipSlices(dvec3 o, out double tEntry, out double tExit)
   {
     if (sliceStep[a] == 0.0lf)
     {
-      if (o[a] < 0.0lf || o[a] > boxMax[a])
+      if (o[a] < wholeMin[a] || o[a] > wholeMax[a])
       {
         tExit = -1.0lf;
       }
       continue;
     }
-    double ta = -o[a] / sliceStep[a], tb = (boxMax[a] - o[a]) / sliceStep[a];
+    double ta = (wholeMin[a] - o[a]) / sliceStep[a], tb = (wholeMax[a] - o[a]) / sliceStep[a];
     tEntry = max(tEntry, min(ta, tb));
     tExit = min(tExit, max(ta, tb));
   }
+}
+
+// The slices [first, last] between which a piece's level-0 ray at image coordinates (x, y)
+// composites: from the first slice of 2^l_max at or after it enters the owned points through a
+// face it shares with another piece, to the first at or after it leaves them so (unbounded
+// through a face of the whole volume). Every walk samples those slices and restarts its
+// pyramid there, so the pieces' walks join into the whole volume's; a ray in a shared face
+// belongs to the piece above it. first > last when the ray owns nothing.
+void hovrOwnedSlices(double x, double y, out double first, out double last)
+{
+  const double far = 1e300lf;
+  dvec3 o = structuredOrigin + x * structuredAxisX + y * structuredAxisY;
+  double ta = -far, tb = far;
+  for (int a = 0; a < 3; ++a)
+  {
+    bool lo = sharedLo[a] != 0, hi = sharedHi[a] != 0;
+    if (structuredStep[a] == 0.0lf)
+    {
+      if ((lo && o[a] < ownedLo[a]) || (hi && o[a] >= ownedHi[a]))
+      {
+        first = far;
+        last = -far;
+        return;
+      }
+      continue;
+    }
+    double tLo = (ownedLo[a] - o[a]) / structuredStep[a];
+    double tHi = (ownedHi[a] - o[a]) / structuredStep[a];
+    bool up = structuredStep[a] > 0.0lf;
+    if (up ? lo : hi)
+    {
+      ta = max(ta, up ? tLo : tHi);
+    }
+    if (up ? hi : lo)
+    {
+      tb = min(tb, up ? tHi : tLo);
+    }
+  }
+  double block = double(segmentTables);
+  first = ta > -far ? ceil(ta / block) * block : -far;
+  last = tb < far ? ceil(tb / block) * block : far;
 }
 
 // The segment of k slice spacings from table index sf to sb: the k-th table read as
@@ -287,7 +345,14 @@ void main()
       double front = max(double(previousSlice), tIn);
       double back = min(double(slice), tOut);
       double pieceLength = back - front;
-      if (pieceLength > 0.0lf && slice - previousSlice <= segmentTables)
+      bool owned = true;
+      if (piece != 0)
+      {
+        double first, last;
+        hovrOwnedSlices(px, py, first, last);
+        owned = double(previousSlice) >= first && double(slice) <= last;
+      }
+      if (owned && pieceLength > 0.0lf && slice - previousSlice <= segmentTables)
       {
         float sf = previous.x, sb = s;
         double unused;

@@ -7,6 +7,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkAnalyticVolumeMapper.h"
+#include "vtkCamera.h"
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -58,20 +59,22 @@ bool IsPreIntegration(int integration)
 }
 
 // Which ghost points a method reads on several ranks: none (its piece is cropped), those of
-// the segments and slabs of pre-integration and object order, or those of the adaptive ray's
-// walk and oracle.
+// the segments and slabs of pre-integration and object order, those of the adaptive ray's
+// walk and oracle, or those of the slice pyramid's walks and oracle.
 enum GhostKinds
 {
   NO_GHOSTS,
   SEGMENT_GHOSTS,
-  ADAPTIVE_RAY_GHOSTS
+  ADAPTIVE_RAY_GHOSTS,
+  PYRAMID_GHOSTS
 };
 int GhostKind(int integration)
 {
-  return IsPreIntegration(integration) || integration == vtkHovrVolumeRepresentation::OBJECT_ORDER
-    ? SEGMENT_GHOSTS
-    : integration == vtkHovrVolumeRepresentation::ADAPTIVE_RAY ? ADAPTIVE_RAY_GHOSTS
-                                                               : NO_GHOSTS;
+  using R = vtkHovrVolumeRepresentation;
+  return IsPreIntegration(integration) || integration == R::OBJECT_ORDER ? SEGMENT_GHOSTS
+    : integration == R::ADAPTIVE_RAY                                     ? ADAPTIVE_RAY_GHOSTS
+    : integration == R::ADAPTIVE_3D                                      ? PYRAMID_GHOSTS
+                                                                         : NO_GHOSTS;
 }
 }
 
@@ -190,9 +193,16 @@ int vtkHovrVolumeRepresentation::GhostLevels(double spacing)
   {
     return 0;
   }
-  const double reach =
-    kind == SEGMENT_GHOSTS ? 2.0 : std::ldexp(2.0, std::min(std::max(this->MaximumLevel, 0), 16));
-  const double distance = this->SampleDistance > 0.0 ? this->SampleDistance : 0.5 * spacing;
+  // The slice pyramid's walk reaches 2^(l_max + 2) slice spacings (a pixel each, which the
+  // view gives: see ProcessViewRequest).
+  const int level = std::min(std::max(this->MaximumLevel, 0), 16);
+  const bool pyramid = kind == PYRAMID_GHOSTS && this->PyramidSliceSpacing > 0.0;
+  const double reach = kind == SEGMENT_GHOSTS ? 2.0
+    : pyramid                                 ? std::ldexp(4.0, level)
+                                              : std::ldexp(2.0, level);
+  const double distance = pyramid ? this->PyramidSliceSpacing
+    : this->SampleDistance > 0.0  ? this->SampleDistance
+                                  : 0.5 * spacing;
   if (!(spacing > 0.0) || !std::isfinite(distance / spacing))
   {
     return static_cast<int>(reach) + 2;
@@ -442,8 +452,8 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     data = this->Oracle->GetInputConnection(0, 0);
   }
   // The piece's ghost points (on several ranks) are read by pre-integration, object order and
-  // the adaptive ray when they reach as far as those need; otherwise, and for the other methods,
-  // they are cropped off (after the oracle, which is computed with them).
+  // the adaptive methods when they reach as far as those need; otherwise, and for the other
+  // methods, they are cropped off (after the oracle, which is computed with them).
   const bool ghosts = this->OwnedExtent[0] <= this->OwnedExtent[1];
   bool readsGhosts = false;
   if (ghosts && GhostKind(this->Integration) != NO_GHOSTS)
@@ -455,7 +465,10 @@ void vtkHovrVolumeRepresentation::UpdateMapperParameters()
     }
     const double smallest =
       std::min(std::abs(spacing[0]), std::min(std::abs(spacing[1]), std::abs(spacing[2])));
-    readsGhosts = this->GhostWidth >= this->GhostLevels(smallest);
+    // (The slice pyramid's need depends on the camera: its mapper checks it every frame.)
+    readsGhosts = GhostKind(this->Integration) == PYRAMID_GHOSTS
+      ? this->GhostWidth > 0
+      : this->GhostWidth >= this->GhostLevels(smallest);
   }
   const bool adaptive = chosen == this->AdaptiveRayMapper || chosen == this->AdaptivePyramidMapper;
   if (adaptive && data)
@@ -669,12 +682,31 @@ int vtkHovrVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* re
   vtkInformation* inInfo,
   vtkInformation* outInfo)
 {
+  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
   if (request_type == vtkPVView::REQUEST_RENDER())
   {
     // Before the superclass sets the mapper up: whether this frame composites in order (the
     // view decided at its last update).
-    auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
     this->OrderedCompositingInView = view && view->GetUseOrderedCompositing();
+  }
+  if (view && view->GetActiveCamera())
+  {
+    // The slice pyramid's slice spacing, one pixel: for this camera, or for the camera that
+    // shows the whole volume if that is larger (zoomed in, fewer ghost points would do), so
+    // that the ghost points asked for at the next data update serve both.
+    const int* size = view->GetSize();
+    const double* b = this->WholeBounds;
+    if (size && size[1] > 0)
+    {
+      double delta = 2.0 * view->GetActiveCamera()->GetParallelScale() / size[1];
+      if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
+      {
+        const double diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) +
+          (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+        delta = std::max(delta, diagonal / size[1]);
+      }
+      this->PyramidSliceSpacing = std::isfinite(delta) && delta > 0.0 ? delta : 0.0;
+    }
   }
   if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
   {

@@ -33,11 +33,16 @@
  * drawn as the whole volume draws it. On several ranks the representation asks for ghost
  * points around each piece (two sample distances and two points deep), and pre-integration
  * draws each piece with them (vtkExtensibleGPUVolumeRayCastMapper::SetOwnedExtent: a segment or
- * slab that starts in a piece is drawn whole, as the whole volume draws it), and so does the
- * adaptive ray (2^(l_max + 1) sample distances and two points deep: its walk joins the whole
- * volume's on the slices every walk samples, and its oracle is computed with them); the other
- * methods draw the piece without them. Pre-integration measures its table sizes on the whole
- * volume on every rank (put together from the pieces when the data update,
+ * slab that starts in a piece is drawn whole, as the whole volume draws it), and so does
+ * object order (vtkObjectOrderRayCaster::SetOwnedExtent: a sample's step is drawn by the piece
+ * that holds the sample) and the adaptive ray (2^(l_max + 1) sample distances and two points
+ * deep: its walk joins the whole volume's on the slices every walk samples, and its oracle is
+ * computed with them). The adaptive 3D method joins its walks likewise, 2^(l_max + 2) slice
+ * spacings and two points deep; its slices are a pixel apart, so the depth is taken for the
+ * camera at the data update, or for the one that shows the whole volume if that is larger, and
+ * a camera zoomed out past both draws each piece as a volume of its own until the next update.
+ * The analytic methods draw the piece without them. Pre-integration measures its table sizes on the
+ * whole volume on every rank (put together from the pieces when the data update,
  * vtkWholeVolumeAssembler: every point up to 64 MiB of values, else every few points), so
  * that every rank draws the table one rank draws. A maximum or minimum over the
  * pieces is not joined
@@ -407,6 +412,8 @@ protected:
   // piece without them for the methods that do not read ghost points.
   int OwnedExtent[6] = { 0, -1, 0, -1, 0, -1 };
   int GhostWidth = 0; // the fewest ghost points past an owned face that has a neighbour
+  // The slice pyramid's slice spacing for its ghost points (world; 0: not known yet).
+  double PyramidSliceSpacing = 0.0;
   vtkSmartPointer<vtkAlgorithm> Cropper;
   int TableSizes[3] = { 0, 0, 0 };
   // What SizingVolume was assembled from on this rank: the array and its modification time.
