@@ -166,7 +166,7 @@ void vtkExtensibleGPUVolumeRayCastMapper::GPURender(vtkRenderer* ren, vtkVolume*
   this->PlaceTextureScalars(plan == DrawWithExtension ? this->TextureScalars : nullptr);
   if (plan == DrawStock)
   {
-    this->Superclass::GPURender(ren, vol);
+    this->DrawStockOwned(ren, vol);
     return;
   }
 
@@ -484,6 +484,76 @@ void vtkExtensibleGPUVolumeRayCastMapper::CoverWholeBounds(double bounds[6]) con
     bounds[2 * a] = std::min(bounds[2 * a], whole[2 * a]);
     bounds[2 * a + 1] = std::max(bounds[2 * a + 1], whole[2 * a + 1]);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkExtensibleGPUVolumeRayCastMapper::DrawStockOwned(vtkRenderer* ren, vtkVolume* vol)
+{
+  // A piece with ghost points: VTK's own path draws the owned points alone (cropped to their
+  // box), as the other pieces draw theirs, rather than the ghost points twice. The cropping is
+  // set for this draw only, without marking the mapper modified but when it starts or stops,
+  // so that VTK builds its shader with it once.
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  const int* owned = this->OwnedExtent;
+  bool crop = input && owned[0] <= owned[1] && owned[2] <= owned[3] && owned[4] <= owned[5];
+  double planes[6];
+  if (crop)
+  {
+    int lo[3], hi[3];
+    this->GetOwnedIndexBox(lo, hi);
+    const int* extent = input->GetExtent();
+    for (int c = 0; c < 8; ++c)
+    {
+      const double index[3] = { static_cast<double>(((c & 1) ? hi[0] : lo[0]) + extent[0]),
+        static_cast<double>(((c & 2) ? hi[1] : lo[1]) + extent[2]),
+        static_cast<double>(((c & 4) ? hi[2] : lo[2]) + extent[4]) };
+      double point[3];
+      input->TransformContinuousIndexToPhysicalPoint(index, point);
+      for (int a = 0; a < 3; ++a)
+      {
+        planes[2 * a] = c == 0 ? point[a] : std::min(planes[2 * a], point[a]);
+        planes[2 * a + 1] = c == 0 ? point[a] : std::max(planes[2 * a + 1], point[a]);
+      }
+    }
+    if (this->Cropping)
+    {
+      // The user's sub-volume within the owned points; other region flags cannot be joined
+      // with it.
+      crop = this->CroppingRegionFlags == VTK_CROP_SUBVOLUME;
+      for (int a = 0; a < 3 && crop; ++a)
+      {
+        planes[2 * a] = std::max(planes[2 * a], this->CroppingRegionPlanes[2 * a]);
+        planes[2 * a + 1] = std::min(planes[2 * a + 1], this->CroppingRegionPlanes[2 * a + 1]);
+      }
+      if (!crop)
+      {
+        this->WarnFallbackOnce("VTK's own path cannot join cropping regions other than the "
+                               "sub-volume with a piece's owned points: the piece's ghost "
+                               "points are drawn too");
+      }
+    }
+  }
+  if (crop != this->StockCroppedToOwned)
+  {
+    this->StockCroppedToOwned = crop;
+    this->Modified();
+  }
+  if (!crop)
+  {
+    this->Superclass::GPURender(ren, vol);
+    return;
+  }
+  const vtkTypeBool cropping = this->Cropping;
+  const int flags = this->CroppingRegionFlags;
+  double userPlanes[6];
+  std::copy(this->CroppingRegionPlanes, this->CroppingRegionPlanes + 6, userPlanes);
+  this->Cropping = 1;
+  this->CroppingRegionFlags = VTK_CROP_SUBVOLUME;
+  std::copy(planes, planes + 6, this->CroppingRegionPlanes);
+  this->Superclass::GPURender(ren, vol);
+  this->Cropping = cropping;
+  this->CroppingRegionFlags = flags;
+  std::copy(userPlanes, userPlanes + 6, this->CroppingRegionPlanes);
 }
 
 //------------------------------------------------------------------------------

@@ -175,7 +175,9 @@ public:
    * (vtkAdaptiveSamplingVolumeMapper) joins its walks likewise, from the first slice of
    * 2^MaximumLevel where a pixel's ray enters the owned points from another piece's; its ghost
    * points, and its oracle's, must reach 2^(MaximumLevel + 2) slice spacings (pixels) and two
-   * points, else the owned points are drawn as a volume of their own. An empty extent (a
+   * points, else the owned points are drawn as a volume of their own. A frame drawn by VTK's
+   * own path (Stock, or a fallback) is cropped to the owned points' box (with the user's
+   * cropping, when that is a sub-volume). An empty extent (a
    * minimum above its maximum) owns the whole input. Initial value is (0, -1, 0, -1, 0, -1).
    */
   vtkSetVector6Macro(OwnedExtent, int);
@@ -443,6 +445,10 @@ protected:
   // input owns (OwnedExtent within the input, else all of them), in the input's grid index
   // (0 at its first point).
   void GetWholeIndexBox(double lo[3], double hi[3]);
+
+  // VTK's own path (DrawStock), for a piece with ghost points cropped to its owned points.
+  void DrawStockOwned(vtkRenderer* ren, vtkVolume* vol);
+  bool StockCroppedToOwned = false;
   void GetOwnedIndexBox(int lo[3], int hi[3]);
 
 private:
