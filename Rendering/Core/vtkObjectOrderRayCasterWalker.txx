@@ -247,8 +247,7 @@ public:
         I.Rays.OwnedSamples(px, py, phase, state.Owned);
       }
 #ifdef HOVR_WALKER_AVX2
-      // (A piece's rays take the one-ray loop, which skips the samples it does not own.)
-      if (Shading == 0 && !I.Rays.Piece)
+      if (Shading == 0)
       {
         lanes.Add(state, lx, ly, phase, n, tin, tout, entry, samples);
         return;

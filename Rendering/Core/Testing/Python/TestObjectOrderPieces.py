@@ -8,8 +8,9 @@ the whole range, its parallel camera, 128 x 128 float images, a step of half a v
 two along x, three along y (cut_pieces), and vtkExtentTranslator's blocks for 3 and 4 pieces
 (cut along two axes, as ParaView's ranks get them); each carries 3 ghost points (two sample
 distances and two points, what the plugin asks for) past the faces it shares. For the
-pre-integrated classification unshaded, post- and pre-shaded, and the point-sampled one, with
-and without interleaved sampling:
+pre-integrated classification unshaded (eight rays at a time where the processor has AVX2, and
+one at a time), post- and pre-shaded, and the point-sampled one, with and without interleaved
+sampling:
 - the pieces composited front to back equal the whole image within float rounding (max
   2e-4): each ray is walked through the whole volume's box, every piece takes the samples its
   points hold, and only the piece that owns a sample composites its step;
@@ -72,7 +73,7 @@ def camera_along(position):
     return camera
 
 
-def render(image, camera, classification, shading, interleaved, owned=None):
+def render(image, camera, classification, shading, interleaved, instructions, owned=None):
     caster = hovr.vtkObjectOrderRayCaster()
     caster.SetInputData(image)
     caster.SetVolumeProperty(prop)
@@ -82,6 +83,7 @@ def render(image, camera, classification, shading, interleaved, owned=None):
     caster.SetScalarRange(low, high)
     caster.SetClassification(classification)
     caster.SetInterleavedSampling(interleaved)
+    caster.SetInstructionSet(instructions)
     if shading is not None:
         caster.SetShadingMode(shading)
     if owned is not None:
@@ -136,15 +138,20 @@ P, S = hovr.vtkObjectOrderRayCaster.PREINTEGRATED, hovr.vtkObjectOrderRayCaster.
 POST = hovr.vtkObjectOrderRayCaster.POST_SHADING
 PRE = hovr.vtkObjectOrderRayCaster.PRE_SHADING
 oblique = camera_along((3.0, -2.2, 1.6))
-cases = [("pre-integrated", P, None, True), ("pre-integrated, not interleaved", P, None, False),
-         ("pre-integrated, post-shaded", P, POST, True),
-         ("pre-integrated, pre-shaded", P, PRE, True), ("point-sampled", S, None, True)]
+AUTO, SSE2 = hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_AUTOMATIC, \
+    hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_SSE2
+cases = [("pre-integrated", P, None, True, AUTO),
+         ("pre-integrated, one ray at a time (SSE2)", P, None, True, SSE2),
+         ("pre-integrated, not interleaved", P, None, False, AUTO),
+         ("pre-integrated, post-shaded", P, POST, True, AUTO),
+         ("pre-integrated, pre-shaded", P, PRE, True, AUTO),
+         ("point-sampled", S, None, True, AUTO)]
 layouts = [("2 pieces along x", cut_pieces(whole, 0, 2, GHOSTS), cut_pieces(whole, 0, 2)),
            ("3 pieces along y", cut_pieces(whole, 1, 3, GHOSTS), cut_pieces(whole, 1, 3)),
            ("3 blocks", blocks(3), None), ("4 blocks", blocks(4), None)]
-for name, classification, shading, interleaved in cases:
+for name, classification, shading, interleaved, instructions in cases:
     prop.SetShade(shading is not None)
-    settings = (classification, shading, interleaved)
+    settings = (classification, shading, interleaved, instructions)
     reference = render(whole, oblique, *settings)
     c.check(reference[..., 3].max() > 0.3, "%s: the whole volume is drawn" % name)
     for layout, ghosted, plain in layouts:
@@ -159,7 +166,7 @@ for name, classification, shading, interleaved in cases:
 # Along x: the samples of every ray lie on the grid's x planes, the cuts among them.
 prop.SetShade(False)
 along = camera_along((4.0, 0.0, 0.0))
-settings = (P, None, False)
+settings = (P, None, False, AUTO)
 reference = render(whole, along, *settings)
 ghosted = cut_pieces(whole, 0, 2, GHOSTS)
 difference = numpy.abs(composite(ghosted, along, settings, True) - reference).max()
