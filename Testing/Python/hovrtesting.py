@@ -92,6 +92,45 @@ def cut_pieces(image, axis, count, ghosts=0):
     return out
 
 
+def translator_pieces(image, count, ghosts=0):
+    """``image`` cut into ``count`` blocks by vtkExtentTranslator, as ParaView's ranks get them
+    (along several axes): (the block's own extent, the block with ``ghosts`` ghost points)."""
+    from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    translator = vtkExtentTranslator()
+    translator.SetWholeExtent(image.GetExtent())
+    translator.SetNumberOfPieces(count)
+    out = []
+    for k in range(count):
+        translator.SetPiece(k)
+        translator.SetGhostLevel(0)
+        translator.PieceToExtent()
+        owned = list(translator.GetExtent())
+        translator.SetGhostLevel(ghosts)
+        translator.PieceToExtent()
+        extract = vtkExtractVOI()
+        extract.SetInputData(image)
+        extract.SetVOI(translator.GetExtent())
+        extract.Update()
+        piece = vtkImageData()
+        piece.ShallowCopy(extract.GetOutput())
+        out.append((owned, piece))
+    return out
+
+
+def front_to_back(parts, image, camera):
+    """The indices of ``parts`` (from cut_pieces or translator_pieces of ``image``), nearest to
+    a parallel ``camera`` first: by their own middles along the view (slabs and blocks of a
+    grid)."""
+    import numpy
+    spacing, origin = image.GetSpacing(), image.GetOrigin()
+    direction = numpy.array(camera.GetDirectionOfProjection())
+    middle = [numpy.array([origin[a] + 0.5 * (o[2 * a] + o[2 * a + 1]) * spacing[a]
+                           for a in range(3)]) for o, _ in parts]
+    return sorted(range(len(parts)), key=lambda k: numpy.dot(middle[k], direction))
+
+
 def with_oracle(image, prop, lmax=3):
     """``image`` with the oracle of vtkAdaptiveSamplingOracle for ``prop``'s opacity, its
     distances capped at 2^lmax of the smallest spacing."""

@@ -23,12 +23,10 @@ each such sample is drawn by one piece only, the image again within 2e-4.
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
-from vtkmodules.vtkImagingCore import vtkExtractVOI
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
 
 import hovr
-from hovrtesting import Checker, cut_pieces, image_from_array
+from hovrtesting import Checker, cut_pieces, front_to_back, image_from_array, translator_pieces
 
 c = Checker()
 SIZE = 128
@@ -94,40 +92,9 @@ def render(image, camera, classification, shading, interleaved, instructions, ow
         SIZE, SIZE, 4).astype(numpy.float64)
 
 
-def blocks(count):
-    """vtkExtentTranslator's pieces with GHOSTS ghost points: (owned, piece)."""
-    translator = vtkExtentTranslator()
-    translator.SetWholeExtent(whole.GetExtent())
-    translator.SetNumberOfPieces(count)
-    parts = []
-    for k in range(count):
-        translator.SetPiece(k)
-        translator.SetGhostLevel(0)
-        translator.PieceToExtent()
-        owned = list(translator.GetExtent())
-        translator.SetGhostLevel(GHOSTS)
-        translator.PieceToExtent()
-        extract = vtkExtractVOI()
-        extract.SetInputData(whole)
-        extract.SetVOI(translator.GetExtent())
-        extract.Update()
-        parts.append((owned, extract.GetOutput()))
-    return parts
-
-
-def front_to_back(parts, camera):
-    """The pieces' indices, nearest first: their own middles along the view (slabs and blocks
-    of a grid)."""
-    spacing, origin = whole.GetSpacing(), whole.GetOrigin()
-    direction = numpy.array(camera.GetDirectionOfProjection())
-    middle = [numpy.array([origin[a] + 0.5 * (o[2 * a] + o[2 * a + 1]) * spacing[a]
-                           for a in range(3)]) for o, _ in parts]
-    return sorted(range(len(parts)), key=lambda k: numpy.dot(middle[k], direction))
-
-
 def composite(parts, camera, settings, owned_extent):
     over = None
-    for k in front_to_back(parts, camera):
+    for k in front_to_back(parts, whole, camera):
         owned, piece = parts[k]
         image = render(piece, camera, *settings, owned=owned if owned_extent else None)
         over = image if over is None else over + (1.0 - over[..., 3:4]) * image
@@ -148,7 +115,8 @@ cases = [("pre-integrated", P, None, True, AUTO),
          ("point-sampled", S, None, True, AUTO)]
 layouts = [("2 pieces along x", cut_pieces(whole, 0, 2, GHOSTS), cut_pieces(whole, 0, 2)),
            ("3 pieces along y", cut_pieces(whole, 1, 3, GHOSTS), cut_pieces(whole, 1, 3)),
-           ("3 blocks", blocks(3), None), ("4 blocks", blocks(4), None)]
+           ("3 blocks", translator_pieces(whole, 3, GHOSTS), None),
+           ("4 blocks", translator_pieces(whole, 4, GHOSTS), None)]
 for name, classification, shading, interleaved, instructions in cases:
     prop.SetShade(shading is not None)
     settings = (classification, shading, interleaved, instructions)

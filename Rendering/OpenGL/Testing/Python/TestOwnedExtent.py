@@ -28,13 +28,12 @@ alone: its pieces composited are nearer the whole image than the ghost points dr
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
-from vtkmodules.vtkImagingCore import vtkExtractVOI
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
 
 import hovr
 from hovr import io as hio
-from hovrtesting import Checker, FloatFrames, cut_pieces, image_from_array, with_oracle
+from hovrtesting import (Checker, FloatFrames, cut_pieces, front_to_back, image_from_array,
+                         translator_pieces, with_oracle)
 
 c = Checker()
 frames = FloatFrames((96, 96))
@@ -224,31 +223,11 @@ camera.SetPosition(3.0, -2.2, 1.6)
 camera.SetFocalPoint(0.0, 0.0, 0.0)
 camera.SetViewUp(0.0, 0.0, 1.0)
 camera.SetParallelScale(1.6)
-direction = numpy.array(camera.GetDirectionOfProjection())
 reference, _ = blocks_frames.draw(adaptive(), with_oracle(ramp, prop, LEVELS), prop, camera)
 for count in (3, 4):
-    translator = vtkExtentTranslator()
-    translator.SetWholeExtent(ramp.GetExtent())
-    translator.SetNumberOfPieces(count)
-    parts = []
-    for k in range(count):
-        translator.SetPiece(k)
-        translator.SetGhostLevel(0)
-        translator.PieceToExtent()
-        owned = list(translator.GetExtent())
-        translator.SetGhostLevel(ahead)
-        translator.PieceToExtent()
-        extract = vtkExtractVOI()
-        extract.SetInputData(ramp)
-        extract.SetVOI(translator.GetExtent())
-        extract.Update()
-        parts.append((owned, extract.GetOutput()))
-    # Front to back: the blocks' own middles along the view (a grid of blocks).
-    spacing, origin = ramp.GetSpacing(), ramp.GetOrigin()
-    middle = [numpy.array([origin[a] + 0.5 * (o[2 * a] + o[2 * a + 1]) * spacing[a]
-                           for a in range(3)]) for o, _ in parts]
+    parts = translator_pieces(ramp, count, ahead)
     over = numpy.zeros_like(reference)
-    for k in sorted(range(count), key=lambda k: numpy.dot(middle[k], direction)):
+    for k in front_to_back(parts, ramp, camera):
         m = adaptive()
         m.SetOwnedExtent(parts[k][0])
         image, _ = blocks_frames.draw(m, with_oracle(parts[k][1], prop, LEVELS), prop, camera)
@@ -273,39 +252,17 @@ def pyramid():
     return m
 
 
-def blocks(count, ghosts):
-    translator = vtkExtentTranslator()
-    translator.SetWholeExtent(ramp.GetExtent())
-    translator.SetNumberOfPieces(count)
-    parts = []
-    for k in range(count):
-        translator.SetPiece(k)
-        translator.SetGhostLevel(0)
-        translator.PieceToExtent()
-        owned = list(translator.GetExtent())
-        translator.SetGhostLevel(ghosts)
-        translator.PieceToExtent()
-        extract = vtkExtractVOI()
-        extract.SetInputData(ramp)
-        extract.SetVOI(translator.GetExtent())
-        extract.Update()
-        parts.append((owned, extract.GetOutput()))
-    return parts
-
-
 reference, _ = blocks_frames.draw(pyramid(), with_oracle(ramp, prop, LEVELS), prop, camera)
 c.check(reference[..., 3].max() > 0.3, "adaptive 3D: the whole volume is drawn")
 layouts = [("2 pieces along x", cut_pieces(ramp, 0, 2, deep)),
            ("3 pieces along y", cut_pieces(ramp, 1, 3, deep)),
-           ("3 blocks", blocks(3, deep)), ("4 blocks", blocks(4, deep)),
+           ("3 blocks", translator_pieces(ramp, 3, deep)),
+           ("4 blocks", translator_pieces(ramp, 4, deep)),
            ("2 pieces along x, 4 ghost points", cut_pieces(ramp, 0, 2, 4))]
 for label, parts in layouts:
-    spacing, origin = ramp.GetSpacing(), ramp.GetOrigin()
-    middle = [numpy.array([origin[a] + 0.5 * (o[2 * a] + o[2 * a + 1]) * spacing[a]
-                           for a in range(3)]) for o, _ in parts]
     over = numpy.zeros_like(reference)
     joined = []
-    for k in sorted(range(len(parts)), key=lambda k: numpy.dot(middle[k], direction)):
+    for k in front_to_back(parts, ramp, camera):
         m = pyramid()
         m.SetOwnedExtent(parts[k][0])
         image, _ = blocks_frames.draw(m, with_oracle(parts[k][1], prop, LEVELS), prop, camera)
@@ -333,7 +290,7 @@ shaded, _ = frames.draw(adaptive(), ramp, prop, camera)
 def stock_pieces(ghosts, owned_extent):
     parts = cut_pieces(ramp, 0, 2, ghosts)
     over = numpy.zeros_like(shaded)
-    for k in sorted(range(2), key=lambda k: numpy.dot(middle_of(parts[k][0]), direction)):
+    for k in front_to_back(parts, ramp, camera):
         m = adaptive()
         m.SetOracleModeToMinimum()
         if owned_extent:
@@ -343,12 +300,6 @@ def stock_pieces(ghosts, owned_extent):
                 "a shaded adaptive ray: drawn by VTK's own path after a warning")
         over = over + (1.0 - over[..., 3:4]) * image
     return float(numpy.sqrt(((over - shaded)[..., :3] ** 2).mean()))
-
-
-def middle_of(owned):
-    spacing, origin = ramp.GetSpacing(), ramp.GetOrigin()
-    return numpy.array([origin[a] + 0.5 * (owned[2 * a] + owned[2 * a + 1]) * spacing[a]
-                        for a in range(3)])
 
 
 cropped, plain, twice = stock_pieces(16, True), stock_pieces(0, False), stock_pieces(16, False)
