@@ -1,15 +1,19 @@
-"""Seeded random transfer functions, for checking automatic choices on cases no one tuned.
+"""Seeded random transfer functions and volumes, for checking automatic choices on cases no one
+tuned.
 
-The sizer's tests and the examples that study the table sizes draw their transfer functions
-here: one to a few opacity features (spikes, steps, plateaus, ramps) of random width, centre and
-height on a zero background, random colours and a random unit distance. The draws are made in
-a fixed order from the generator given, so a seed gives the same function every time.
+The sizer's tests and the examples that study the table sizes draw their volumes and transfer
+functions here. A volume is a field of Gaussian blobs, of plane waves or Marschner-Lobb, 26-36
+points a side, stored as uint8, uint16 or float. A transfer function has one to a few opacity
+features (spikes, steps, plateaus, ramps) of random width, centre and height on a zero
+background, random colours and a random unit distance. The draws are made in a fixed order from
+the generator given, so a seed gives the same volume and function every time.
 """
 
 import math
 
 import numpy
-from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 
@@ -56,3 +60,52 @@ def transfer_function(rng, low, high, features=(1, 4), kinds=("spike", "step", "
     prop.SetScalarOpacity(opacity)
     prop.SetScalarOpacityUnitDistance(float(10 ** rng.uniform(*log_units)))
     return prop, ", ".join(names)
+
+
+def field(kind, n, rng):
+    """An n^3 field in [0, 1] of the kind "blobs", "waves" or "marschner-lobb", indexed [z, y, x]."""
+    g = numpy.linspace(0.0, 1.0, n)
+    z, y, x = numpy.meshgrid(g, g, g, indexing="ij")
+    if kind == "blobs":
+        v = numpy.zeros_like(x)
+        for _ in range(rng.integers(3, 8)):
+            c = rng.uniform(0.15, 0.85, 3)
+            r = rng.uniform(0.06, 0.25)
+            v += rng.uniform(0.3, 1.0) * numpy.exp(
+                -((x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2) / (2 * r * r))
+    elif kind == "waves":
+        v = numpy.zeros_like(x)
+        for _ in range(4):
+            k = rng.normal(size=3) * rng.uniform(3, 12)
+            v += numpy.sin(k[0] * x + k[1] * y + k[2] * z + rng.uniform(0, 6.3)) \
+                * rng.uniform(0.3, 1.0)
+    else:
+        import hovr  # the package that holds this module: imported once it is loaded
+        source = hovr.vtkMarschnerLobbSource()
+        source.SetDimensions(n, n, n)
+        source.Update()
+        v = vtk_to_numpy(source.GetOutput().GetPointData().GetScalars()).reshape(n, n, n)
+        v = v.astype(numpy.float64)
+    return (v - v.min()) / (v.max() - v.min())
+
+
+def volume(rng):
+    """A vtkImageData of a random field (see the module's description), its point scalars named
+    "scalars", and a description."""
+    kind = rng.choice(["blobs", "waves", "marschner-lobb"])
+    n = int(rng.integers(26, 37))
+    v = field(kind, n, rng)
+    stored = rng.choice(["uint8", "uint16", "float"])
+    if stored == "uint8":
+        values = numpy.round(v * 255).astype(numpy.uint8)
+    elif stored == "uint16":
+        values = numpy.round(v * float(rng.choice([4095, 65535]))).astype(numpy.uint16)
+    else:
+        low = float(rng.uniform(-100, 100))
+        values = (low + v * 10 ** rng.uniform(-2, 4)).astype(numpy.float32)
+    image = vtkImageData()
+    image.SetDimensions(n, n, n)
+    array = numpy_to_vtk(numpy.ascontiguousarray(values.ravel()), deep=True)
+    array.SetName("scalars")
+    image.GetPointData().SetScalars(array)
+    return image, "%s %d^3 %s" % (kind, n, stored)

@@ -43,9 +43,8 @@ import sys
 import time
 
 import numpy
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDoubleArray
-from vtkmodules.vtkCommonDataModel import vtkImageData
 
 import hovr
 from hovr import randomcases
@@ -56,51 +55,6 @@ FIRST_SEED = 1000   # clear of seeds 0-59, the sizer's tuning cases
 JUDGE_RAYS = 8192
 TOLERANCE = 1.05    # the chosen table's error over the best swept table's
 SCREENED_TOLERANCE = 1.02  # the chosen table's error over the unscreened choice's
-
-
-def field(kind, n, rng):
-    g = numpy.linspace(0.0, 1.0, n)
-    z, y, x = numpy.meshgrid(g, g, g, indexing="ij")
-    if kind == "blobs":
-        v = numpy.zeros_like(x)
-        for _ in range(rng.integers(3, 8)):
-            c = rng.uniform(0.15, 0.85, 3)
-            r = rng.uniform(0.06, 0.25)
-            v += rng.uniform(0.3, 1.0) * numpy.exp(
-                -((x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2) / (2 * r * r))
-    elif kind == "waves":
-        v = numpy.zeros_like(x)
-        for _ in range(4):
-            k = rng.normal(size=3) * rng.uniform(3, 12)
-            v += numpy.sin(k[0] * x + k[1] * y + k[2] * z + rng.uniform(0, 6.3)) \
-                * rng.uniform(0.3, 1.0)
-    else:
-        source = hovr.vtkMarschnerLobbSource()
-        source.SetDimensions(n, n, n)
-        source.Update()
-        v = vtk_to_numpy(source.GetOutput().GetPointData().GetScalars()).reshape(n, n, n)
-        v = v.astype(numpy.float64)
-    return (v - v.min()) / (v.max() - v.min())
-
-
-def make_volume(rng):
-    kind = rng.choice(["blobs", "waves", "marschner-lobb"])
-    n = int(rng.integers(26, 37))
-    v = field(kind, n, rng)
-    stored = rng.choice(["uint8", "uint16", "float"])
-    if stored == "uint8":
-        values = numpy.round(v * 255).astype(numpy.uint8)
-    elif stored == "uint16":
-        values = numpy.round(v * float(rng.choice([4095, 65535]))).astype(numpy.uint16)
-    else:
-        low = float(rng.uniform(-100, 100))
-        values = (low + v * 10 ** rng.uniform(-2, 4)).astype(numpy.float32)
-    image = vtkImageData()
-    image.SetDimensions(n, n, n)
-    array = numpy_to_vtk(numpy.ascontiguousarray(values.ravel()), deep=True)
-    array.SetName("scalars")
-    image.GetPointData().SetScalars(array)
-    return image, "%s %d^3 %s" % (kind, n, stored)
 
 
 def sweep_axis(extent, spacing):
@@ -293,7 +247,7 @@ results = []
 for case in CASE_NUMBERS:
     seed = FIRST_SEED + case
     rng = numpy.random.default_rng(seed)
-    image, volume_name = make_volume(rng)
+    image, volume_name = randomcases.volume(rng)
     low, high = image.GetPointData().GetScalars().GetRange()
     prop, tf_name = randomcases.transfer_function(
         rng, low, high, features=(1, 5), kinds=("spike", "step", "plateau", "ramp"),
