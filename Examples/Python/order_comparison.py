@@ -9,7 +9,8 @@ against the reference integrator (RMSE of premultiplied RGBA), ray for ray. It p
 and step the two errors, their ratio (second over first) and the ratio's lower bound (the
 paired per-ray excess less two standard errors: above 1 only when the rays tell second order
 is worse), then how many cases lose by more than --limit (5%) at each step, by the ratio and by
-its lower bound.
+its lower bound, and each order's convergence rate between consecutive steps (the error's
+growth, log(e2 / e1) / log(h2 / h1)) over the cases.
 
     ./hovr python Examples/Python/order_comparison.py [--cases 12] [--first-seed 5000] \\
         [--steps 0.25 0.5 1 2 4] [--judge-rays 8192] [--limit 1.05]
@@ -62,6 +63,8 @@ def main():
 
     losses = {step: [0, 0] for step in args.steps}
     ratios = {step: [] for step in args.steps}
+    # Each case's errors per order and step, for the convergence rates.
+    errors = {}
     print("%-5s %-28s %-5s %-12s %-12s %-16s %-16s %7s %7s"
           % ("seed", "volume", "step", "first", "second", "first table", "second table",
              "ratio", "lower"))
@@ -86,6 +89,7 @@ def main():
             lower = math.sqrt(max(0.0, second ** 2 - margin)) / first
             ratio = second / first
             ratios[step].append(ratio)
+            errors.setdefault(seed, {})[step] = (first, second)
             losses[step][0] += ratio > args.limit
             losses[step][1] += lower > args.limit
             print("%-5d %-28s %-5g %-12.4g %-12.4g %-16s %-16s %7.3f %7.3f"
@@ -100,6 +104,21 @@ def main():
             print("%-6g %5d  %12.3f  %7.3f  %10d  %16d"
                   % (step, len(r), float(numpy.median(r)), max(r), losses[step][0],
                      losses[step][1]))
+    # The error's growth between consecutive steps, log(e2 / e1) / log(h2 / h1): a method of
+    # convergence order p gives p wherever its error is C h^p.
+    print()
+    print("steps        first order: median [min, max]   second order: median [min, max]")
+    steps = sorted(args.steps)
+    for a, b in zip(steps, steps[1:]):
+        rates = [[], []]
+        for case in errors.values():
+            if a in case and b in case:
+                for k in (0, 1):
+                    rates[k].append(math.log(case[b][k] / case[a][k]) / math.log(b / a))
+        if rates[0]:
+            print("%-5g-%-5g  %6.2f [%5.2f, %5.2f]             %6.2f [%5.2f, %5.2f]"
+                  % (a, b, numpy.median(rates[0]), min(rates[0]), max(rates[0]),
+                     numpy.median(rates[1]), min(rates[1]), max(rates[1])))
 
 
 if __name__ == "__main__":
