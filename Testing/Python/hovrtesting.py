@@ -92,6 +92,50 @@ def cut_pieces(image, axis, count, ghosts=0):
     return out
 
 
+def mpi_ramp_scene(dtype="float64"):
+    """The MPI test's second scene: (image, property, camera). Marschner-Lobb plus a ramp along
+    x, 65 x 57 x 49 points over [-1, 1]^3 stored as ``dtype`` (so that each piece covers another
+    part of the range), three narrow opacity peaks (unit distance 0.2, linear interpolation,
+    unshaded), and the test's parallel camera (parallel scale 1.6)."""
+    import numpy
+    import hovr
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import (vtkCamera, vtkColorTransferFunction,
+                                             vtkVolumeProperty)
+    source = hovr.vtkMarschnerLobbSource()
+    source.SetDimensions(65, 57, 49)
+    source.Update()
+    grid = source.GetOutput()
+    dims = grid.GetDimensions()
+    values = vtk_to_numpy(grid.GetPointData().GetScalars()).reshape(dims[2], dims[1], dims[0])
+    x = numpy.linspace(-1.0, 1.0, dims[0])
+    image = image_from_array((values + 1.5 * x[None, None, :]).astype(dtype),
+                             spacing=grid.GetSpacing(), origin=grid.GetOrigin())
+    colour = vtkColorTransferFunction()
+    for s, r, g, b in ((-1.5, 0.1, 0.3, 0.9), (0.5, 1.0, 0.55, 0.15), (2.5, 1.0, 1.0, 0.9)):
+        colour.AddRGBPoint(s, r, g, b)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(-1.5, 0.0)
+    for peak, height in ((-0.5, 0.8), (0.5, 0.9), (1.5, 0.9)):
+        opacity.AddPoint(peak - 0.02, 0.0)
+        opacity.AddPoint(peak, height)
+        opacity.AddPoint(peak + 0.02, 0.0)
+    opacity.AddPoint(2.5, 0.0)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(0.2)
+    prop.SetInterpolationTypeToLinear()
+    camera = vtkCamera()
+    camera.ParallelProjectionOn()
+    camera.SetPosition(3.0, -2.2, 1.6)
+    camera.SetFocalPoint(0.0, 0.0, 0.0)
+    camera.SetViewUp(0.0, 0.0, 1.0)
+    camera.SetParallelScale(1.6)
+    return image, prop, camera
+
+
 def translator_pieces(image, count, ghosts=0):
     """``image`` cut into ``count`` blocks by vtkExtentTranslator, as ParaView's ranks get them
     (along several axes): (the block's own extent, the block with ``ghosts`` ghost points)."""

@@ -22,52 +22,25 @@ each such sample is drawn by one piece only, the image again within 2e-4.
 
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
+from vtkmodules.vtkRenderingCore import vtkCamera
 
 import hovr
-from hovrtesting import Checker, cut_pieces, front_to_back, image_from_array, translator_pieces
+from hovrtesting import Checker, cut_pieces, front_to_back, mpi_ramp_scene, translator_pieces
 
 c = Checker()
 SIZE = 128
 GHOSTS = 3
 
-source = hovr.vtkMarschnerLobbSource()
-source.SetDimensions(65, 57, 49)
-source.Update()
-grid = source.GetOutput()
-dims = grid.GetDimensions()
-values = vtk_to_numpy(grid.GetPointData().GetScalars()).reshape(dims[2], dims[1], dims[0])
-x = numpy.linspace(-1.0, 1.0, dims[0])
-whole = image_from_array((values + 1.5 * x[None, None, :]).astype(numpy.float32),
-                         spacing=grid.GetSpacing(), origin=grid.GetOrigin())
+whole, prop, oblique = mpi_ramp_scene("float32")
 low, high = whole.GetPointData().GetScalars().GetRange()
-
-colour = vtkColorTransferFunction()
-for s, r, g, b in ((-1.5, 0.1, 0.3, 0.9), (0.5, 1.0, 0.55, 0.15), (2.5, 1.0, 1.0, 0.9)):
-    colour.AddRGBPoint(s, r, g, b)
-opacity = vtkPiecewiseFunction()
-opacity.AddPoint(-1.5, 0.0)
-for peak, height in ((-0.5, 0.8), (0.5, 0.9), (1.5, 0.9)):
-    opacity.AddPoint(peak - 0.02, 0.0)
-    opacity.AddPoint(peak, height)
-    opacity.AddPoint(peak + 0.02, 0.0)
-opacity.AddPoint(2.5, 0.0)
-prop = vtkVolumeProperty()
-prop.SetColor(colour)
-prop.SetScalarOpacity(opacity)
-prop.SetScalarOpacityUnitDistance(0.2)
-prop.SetInterpolationTypeToLinear()
 step = 0.5 * min(whole.GetSpacing())
 
 
 def camera_along(position):
+    """The scene's camera moved to position."""
     camera = vtkCamera()
-    camera.ParallelProjectionOn()
+    camera.DeepCopy(oblique)
     camera.SetPosition(*position)
-    camera.SetFocalPoint(0.0, 0.0, 0.0)
-    camera.SetViewUp(0.0, 0.0, 1.0)
-    camera.SetParallelScale(1.6)
     return camera
 
 
@@ -104,7 +77,6 @@ def composite(parts, camera, settings, owned_extent):
 P, S = hovr.vtkObjectOrderRayCaster.PREINTEGRATED, hovr.vtkObjectOrderRayCaster.POINT_SAMPLED
 POST = hovr.vtkObjectOrderRayCaster.POST_SHADING
 PRE = hovr.vtkObjectOrderRayCaster.PRE_SHADING
-oblique = camera_along((3.0, -2.2, 1.6))
 AUTO, SSE2 = hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_AUTOMATIC, \
     hovr.vtkObjectOrderRayCaster.INSTRUCTIONS_SSE2
 cases = [("pre-integrated", P, None, True, AUTO),

@@ -28,12 +28,12 @@ alone: its pieces composited are nearer the whole image than the ghost points dr
 import numpy
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
+from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 import hovr
 from hovr import io as hio
 from hovrtesting import (Checker, FloatFrames, cut_pieces, front_to_back, image_from_array,
-                         translator_pieces, with_oracle)
+                         mpi_ramp_scene, translator_pieces, with_oracle)
 
 c = Checker()
 frames = FloatFrames((96, 96))
@@ -194,35 +194,11 @@ for perspective in (False, True):
 # rounded distance to its own box started some rays on the next aligned slice instead).
 
 blocks_frames = FloatFrames((200, 200))
-source.SetDimensions(65, 57, 49)
-source.Update()
-grid = source.GetOutput()
-dims = grid.GetDimensions()
-values = vtk_to_numpy(grid.GetPointData().GetScalars()).reshape(dims[2], dims[1], dims[0])
-x = numpy.linspace(-1.0, 1.0, dims[0])
-ramp = image_from_array(values + 1.5 * x[None, None, :], spacing=grid.GetSpacing(),
-                        origin=grid.GetOrigin())
-colour.RemoveAllPoints()
-for s_, r, g, b in ((-1.5, 0.1, 0.3, 0.9), (0.5, 1.0, 0.55, 0.15), (2.5, 1.0, 1.0, 0.9)):
-    colour.AddRGBPoint(s_, r, g, b)
-opacity.RemoveAllPoints()
-opacity.AddPoint(-1.5, 0.0)
-for peak, height in ((-0.5, 0.8), (0.5, 0.9), (1.5, 0.9)):
-    opacity.AddPoint(peak - 0.02, 0.0)
-    opacity.AddPoint(peak, height)
-    opacity.AddPoint(peak + 0.02, 0.0)
-opacity.AddPoint(2.5, 0.0)
-prop.SetScalarOpacityUnitDistance(0.2)
+ramp, prop, camera = mpi_ramp_scene()
 low, high = ramp.GetPointData().GetScalars().GetRange()
 step = 0.5 * min(ramp.GetSpacing())
 whole = ramp
 ahead = int(numpy.ceil(2 ** (LEVELS + 1) * step / min(ramp.GetSpacing()))) + 2
-camera = vtkCamera()
-camera.ParallelProjectionOn()
-camera.SetPosition(3.0, -2.2, 1.6)
-camera.SetFocalPoint(0.0, 0.0, 0.0)
-camera.SetViewUp(0.0, 0.0, 1.0)
-camera.SetParallelScale(1.6)
 reference, _ = blocks_frames.draw(adaptive(), with_oracle(ramp, prop, LEVELS), prop, camera)
 for count in (3, 4):
     parts = translator_pieces(ramp, count, ahead)
